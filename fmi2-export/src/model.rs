@@ -13,7 +13,7 @@
 //!
 //! No FFI type appears here.
 
-use model_description::{ModelDescription, ScalarType, ValueReference, Value};
+use model_description::{ModelDescription, ScalarType, Value, ValueReference};
 use serde::{Deserialize, Serialize, de::DeserializeOwned};
 
 /// Where and as what the model was instantiated.
@@ -143,6 +143,15 @@ impl Values {
     #[inline]
     pub fn set_string(&mut self, vr: ValueReference, x: &str) {
         x.clone_into(&mut self.strings[vr as usize]);
+    }
+}
+
+impl Values {
+    /// Does this store have one slot per variable of `md`?
+    pub fn same_shape(&self, md: &ModelDescription) -> bool {
+        let fresh = Values::from_description(md);
+        (self.reals.len(), self.integers.len(), self.booleans.len(), self.strings.len())
+            == (fresh.reals.len(), fresh.integers.len(), fresh.booleans.len(), fresh.strings.len())
     }
 }
 

@@ -373,15 +373,13 @@ impl ModelBuilder {
             .enumerate()
             .map(|(i, (n, d))| EnumItem { name: (*n).into(), value: i as i32 + 1, description: Some((*d).into()) })
             .collect();
-        self.md
-            .type_definitions
-            .get_or_insert_with(|| TypeDefinitions { simple_types: Vec::new() })
-            .simple_types
-            .push(SimpleType {
+        self.md.type_definitions.get_or_insert_with(|| TypeDefinitions { simple_types: Vec::new() }).simple_types.push(
+            SimpleType {
                 name: name.into(),
                 description: Some(description.into()),
                 enumeration: Some(EnumerationType { items }),
-            });
+            },
+        );
         self
     }
 
@@ -397,8 +395,12 @@ impl ModelBuilder {
 
     /// Set the default experiment.
     pub fn default_experiment(mut self, start: f64, stop: f64, step: f64) -> Self {
-        self.md.default_experiment =
-            Some(DefaultExperiment { start_time: Some(start), stop_time: Some(stop), tolerance: None, step_size: Some(step) });
+        self.md.default_experiment = Some(DefaultExperiment {
+            start_time: Some(start),
+            stop_time: Some(stop),
+            tolerance: None,
+            step_size: Some(step),
+        });
         self
     }
 
@@ -421,12 +423,8 @@ impl ModelBuilder {
         let vars = &self.md.model_variables.variables;
         let mut names = HashSet::new();
         let mut vrs = HashSet::new();
-        let enum_names: HashSet<String> = self
-            .md
-            .type_definitions
-            .iter()
-            .flat_map(|t| t.simple_types.iter().map(|s| s.name.clone()))
-            .collect();
+        let enum_names: HashSet<String> =
+            self.md.type_definitions.iter().flat_map(|t| t.simple_types.iter().map(|s| s.name.clone())).collect();
         let unit_names: HashSet<String> =
             self.md.unit_definitions.iter().flat_map(|u| u.units.iter().map(|u| u.name.clone())).collect();
         for v in vars {
@@ -436,15 +434,15 @@ impl ModelBuilder {
             if !vrs.insert((v.scalar_type().api_type(), v.value_reference)) {
                 return Err(DescriptionError::Invalid(format!("duplicate value reference {}", v.value_reference)));
             }
-            if let VarKind::Enumeration(e) = &v.kind {
-                if !enum_names.contains(&e.declared_type) {
-                    return Err(DescriptionError::Invalid(format!("{}: unknown type {}", v.name, e.declared_type)));
-                }
+            if let VarKind::Enumeration(e) = &v.kind
+                && !enum_names.contains(&e.declared_type)
+            {
+                return Err(DescriptionError::Invalid(format!("{}: unknown type {}", v.name, e.declared_type)));
             }
-            if let Some(u) = v.unit() {
-                if !unit_names.contains(u) {
-                    return Err(DescriptionError::Invalid(format!("{}: undeclared unit {u}", v.name)));
-                }
+            if let Some(u) = v.unit()
+                && !unit_names.contains(u)
+            {
+                return Err(DescriptionError::Invalid(format!("{}: undeclared unit {u}", v.name)));
             }
             let needs_start = matches!(v.causality, Causality::Input | Causality::Parameter)
                 || v.variability == Variability::Constant
@@ -453,17 +451,20 @@ impl ModelBuilder {
                 return Err(DescriptionError::Invalid(format!("{} needs a start value", v.name)));
             }
             if v.effective_initial() == Some(Initial::Calculated) && v.start_value().is_some() {
-                return Err(DescriptionError::Invalid(format!("{} is calculated and must not have a start value", v.name)));
+                return Err(DescriptionError::Invalid(format!(
+                    "{} is calculated and must not have a start value",
+                    v.name
+                )));
             }
-            if let (Some(lo), Some(hi)) = v.range() {
-                if lo > hi {
-                    return Err(DescriptionError::Invalid(format!("{}: min > max", v.name)));
-                }
+            if let (Some(lo), Some(hi)) = v.range()
+                && lo > hi
+            {
+                return Err(DescriptionError::Invalid(format!("{}: min > max", v.name)));
             }
-            if let (Some(Value::Real(s)), (lo, hi)) = (v.start_value(), v.range()) {
-                if lo.is_some_and(|lo| s < lo) || hi.is_some_and(|hi| s > hi) {
-                    return Err(DescriptionError::Invalid(format!("{}: start {s} outside [min,max]", v.name)));
-                }
+            if let (Some(Value::Real(s)), (lo, hi)) = (v.start_value(), v.range())
+                && (lo.is_some_and(|lo| s < lo) || hi.is_some_and(|hi| s > hi))
+            {
+                return Err(DescriptionError::Invalid(format!("{}: start {s} outside [min,max]", v.name)));
             }
         }
         // ModelStructure: indices are 1-based positions in ModelVariables.
@@ -606,8 +607,8 @@ mod tests {
         let bad_unit =
             sample().var(ScalarVariable::real("q", 7, Causality::Output, Variability::Continuous).unit_of("furlong"));
         assert!(bad_unit.build().is_err());
-        let out_of_range =
-            sample().var(ScalarVariable::real("r", 7, Causality::Parameter, Variability::Fixed).start(5.0).bounds(0.0, 1.0));
+        let out_of_range = sample()
+            .var(ScalarVariable::real("r", 7, Causality::Parameter, Variability::Fixed).start(5.0).bounds(0.0, 1.0));
         assert!(out_of_range.build().is_err());
     }
 
@@ -626,10 +627,7 @@ mod tests {
   <ModelStructure><Outputs><Unknown index="2"/></Outputs><InitialUnknowns><Unknown index="2"/></InitialUnknowns></ModelStructure>
 </fmiModelDescription>"#;
         // `time` has no type child in some exporters' files; ours requires one, so add it.
-        let xml = xml.replace(
-            r#"variability="continuous"/>"#,
-            r#"variability="continuous"><Real/></ScalarVariable>"#,
-        );
+        let xml = xml.replace(r#"variability="continuous"/>"#, r#"variability="continuous"><Real/></ScalarVariable>"#);
         let md = ModelDescription::from_xml(&xml).unwrap();
         assert_eq!(md.model_identifier(), Some("BouncingBall"));
         assert_eq!(md.variable("e").unwrap().range(), (Some(0.5), Some(1.0)));
