@@ -51,3 +51,8 @@ pub fn with_log_categories(mut b: model_description::ModelBuilder) -> model_desc
 }
 
 include!(concat!(env!("OUT_DIR"), "/export_macro.rs"));
+
+/// The README's example of a model compiles (run as a doctest).
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;

@@ -1,0 +1,179 @@
+//! # Packaging of the project's FMUs
+//!
+//! `cargo run --release -p packaging` builds the model cdylibs in release
+//! mode and writes, under `target/fmu/`:
+//!
+//! * `<modelIdentifier>.fmu` for each product ([`PRODUCTS`]): `modelDescription.xml`
+//!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so`,
+//!   `documentation/index.html` (generated from the same table) and
+//!   `resources/` (a README naming the FMU; our models read no resource files);
+//! * `ClosedLoop.ssp`: the closed-loop system (plant + controller) as a
+//!   standard SSP 1.0 archive with both FMUs under `resources/`.
+//!
+//! The cdylib's library name, the `modelIdentifier` and the binary's file name
+//! are one string, checked by this crate's tests.
+
+use anyhow::{Context, Result, bail};
+use fmi2_export::Fmi2Model;
+use model_description::{ModelDescription, VarKind};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// One FMU product of the project.
+pub struct Product {
+    /// Cargo package of the cdylib.
+    pub package: &'static str,
+    /// The model's description (its `modelIdentifier` is the cdylib's library name).
+    pub description: fn() -> &'static ModelDescription,
+    /// Long documentation (Markdown-ish text shown in `documentation/index.html`).
+    pub documentation: &'static str,
+}
+
+/// The FMUs this project ships.
+pub const PRODUCTS: [Product; 2] = [
+    Product {
+        package: "fmu-plant",
+        description: milling_plant::fmu::MillingPlant::description,
+        documentation: milling_plant::fmu::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-controller",
+        description: chatter_control::fmu::ChatterController::description,
+        documentation: chatter_control::fmu::DOCUMENTATION,
+    },
+];
+
+/// The workspace root (where `Cargo.toml` of the workspace is).
+pub fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("packaging sits in the workspace").to_path_buf()
+}
+
+/// The cargo target directory (`CARGO_TARGET_DIR` or `<root>/target`).
+pub fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target"))
+}
+
+/// Where the `.fmu` and `.ssp` files go.
+pub fn fmu_dir() -> PathBuf {
+    target_dir().join("fmu")
+}
+
+/// Build the product cdylibs in release mode.
+pub fn build_cdylibs() -> Result<()> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.current_dir(workspace_root()).args(["build", "--release", "--lib"]);
+    for p in &PRODUCTS {
+        cmd.args(["-p", p.package]);
+    }
+    let status = cmd.status().context("running cargo build for the FMU cdylibs")?;
+    if !status.success() {
+        bail!("cargo build of the FMU cdylibs failed ({status})");
+    }
+    Ok(())
+}
+
+/// Path of the built shared library of `identifier`.
+pub fn built_library(identifier: &str) -> PathBuf {
+    target_dir().join("release").join(format!("lib{identifier}.so"))
+}
+
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+/// `documentation/index.html`, generated from the variable table and the model docs.
+pub fn documentation_html(md: &ModelDescription, docs: &str) -> String {
+    let mut h = String::new();
+    let title = esc(&md.model_name);
+    h.push_str(&format!(
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n\
+         <style>body{{font-family:sans-serif;max-width:70em;margin:auto}}table{{border-collapse:collapse}}\
+         td,th{{border:1px solid #999;padding:2px 6px;font-size:90%}}pre{{white-space:pre-wrap}}</style></head><body>\n\
+         <h1>{title}</h1>\n<p>{}</p>\n<p>FMI 2.0 Co-Simulation, modelIdentifier <code>{}</code>, GUID <code>{}</code>.</p>\n",
+        esc(md.description.as_deref().unwrap_or("")),
+        esc(md.model_identifier().unwrap_or("")),
+        esc(&md.guid)
+    ));
+    h.push_str("<h2>Model</h2>\n<pre>");
+    h.push_str(&esc(docs));
+    h.push_str("</pre>\n<h2>Variables</h2>\n<table><tr><th>name</th><th>causality</th><th>variability</th><th>type</th><th>start</th><th>unit</th><th>min</th><th>max</th><th>description</th></tr>\n");
+    for v in md.variables() {
+        let ty = match &v.kind {
+            VarKind::Enumeration(e) => {
+                let items = md.enumeration_items(&e.declared_type);
+                let items: Vec<_> = items.iter().map(|(n, i)| format!("{i}={n}")).collect();
+                format!("{} ({})", e.declared_type, items.join(", "))
+            }
+            _ => format!("{:?}", v.scalar_type()),
+        };
+        let start = v.start_value().map(|s| match s {
+            model_description::Value::Real(x) => format!("{x}"),
+            model_description::Value::Integer(i) => i.to_string(),
+            model_description::Value::Boolean(b) => b.to_string(),
+            model_description::Value::String(s) => format!("\"{s}\""),
+        });
+        let (lo, hi) = v.range();
+        h.push_str(&format!(
+            "<tr><td><code>{}</code></td><td>{:?}</td><td>{:?}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+            esc(&v.name),
+            v.causality,
+            v.variability,
+            esc(&ty),
+            esc(&start.unwrap_or_default()),
+            esc(v.unit().unwrap_or("")),
+            lo.map(|x| x.to_string()).unwrap_or_default(),
+            hi.map(|x| x.to_string()).unwrap_or_default(),
+            esc(v.description.as_deref().unwrap_or("")),
+        ));
+    }
+    h.push_str("</table>\n</body></html>\n");
+    h
+}
+
+/// Write one `.fmu` archive.
+pub fn write_fmu(md: &ModelDescription, docs: &str, library: &Path, out: &Path) -> Result<()> {
+    let id = md.model_identifier().context("model has no CoSimulation interface")?;
+    let so = std::fs::read(library).with_context(|| format!("reading {}", library.display()))?;
+    let xml = md.to_xml()?;
+    if let Some(dir) = out.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let tmp = out.with_extension("fmu.partial");
+    let file = std::fs::File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
+    let mut zip = zip::ZipWriter::new(file);
+    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    zip.start_file("modelDescription.xml", opts)?;
+    zip.write_all(xml.as_bytes())?;
+    zip.start_file(format!("binaries/linux64/{id}.so"), opts.unix_permissions(0o755))?;
+    zip.write_all(&so)?;
+    zip.start_file("documentation/index.html", opts)?;
+    zip.write_all(documentation_html(md, docs).as_bytes())?;
+    zip.start_file("resources/README.txt", opts)?;
+    zip.write_all(format!("{} needs no resource files; this directory exists for masters that expect it.\n", md.model_name).as_bytes())?;
+    zip.finish()?;
+    std::fs::rename(&tmp, out)?;
+    Ok(())
+}
+
+/// Build everything and write all products and `ClosedLoop.ssp`; returns the written paths.
+pub fn package_all() -> Result<Vec<PathBuf>> {
+    build_cdylibs()?;
+    let dir = fmu_dir();
+    let mut written = Vec::new();
+    let mut fmus = Vec::new();
+    for p in &PRODUCTS {
+        let md = (p.description)();
+        let id = md.model_identifier().context("no modelIdentifier")?;
+        let out = dir.join(format!("{id}.fmu"));
+        write_fmu(md, p.documentation, &built_library(id), &out)?;
+        fmus.push((format!("{id}.fmu"), out.clone()));
+        written.push(out);
+    }
+    let ssp = dir.join("ClosedLoop.ssp");
+    let refs: Vec<(&str, &Path)> = fmus.iter().map(|(n, p)| (n.as_str(), p.as_path())).collect();
+    fmi_master::write_ssp_archive(&ssp, fmi_master::CLOSED_LOOP_SSD, &refs)?;
+    written.push(ssp);
+    Ok(written)
+}

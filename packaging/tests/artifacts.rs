@@ -1,0 +1,167 @@
+//! Checks of the built FMU artifacts: names, exported symbols, shared-library
+//! dependencies, archive layout, and the C header check against the official
+//! FMI 2.0 headers.
+//!
+//! The artifact tests need `cargo run --release -p packaging` to have run
+//! (the README test command does it first); without the files they fail.
+#![allow(missing_docs)]
+
+use packaging::{PRODUCTS, built_library, fmu_dir, workspace_root};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn lib_name_of(package_dir: &str) -> String {
+    let manifest = std::fs::read_to_string(workspace_root().join(package_dir).join("Cargo.toml")).unwrap();
+    let lib = manifest.split("[lib]").nth(1).expect("[lib] section");
+    let line = lib.lines().find(|l| l.trim_start().starts_with("name")).expect("lib name");
+    line.split('"').nth(1).unwrap().to_string()
+}
+
+#[test]
+fn cdylib_name_model_identifier_and_binary_name_are_one_string() {
+    for p in &PRODUCTS {
+        let md = (p.description)();
+        let id = md.model_identifier().unwrap();
+        assert_eq!(lib_name_of(p.package), id, "{}: [lib] name must equal modelIdentifier", p.package);
+        assert_eq!(md.model_name, id);
+        let fmu = fmu_dir().join(format!("{id}.fmu"));
+        let f = std::fs::File::open(&fmu).unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -p packaging`)", fmu.display()));
+        let mut z = zip::ZipArchive::new(f).unwrap();
+        let names: Vec<String> = z.file_names().map(String::from).collect();
+        for required in ["modelDescription.xml", &format!("binaries/linux64/{id}.so"), "documentation/index.html"] {
+            assert!(names.iter().any(|n| n == required), "{id}.fmu lacks {required}: {names:?}");
+        }
+        let mut xml = String::new();
+        std::io::Read::read_to_string(&mut z.by_name("modelDescription.xml").unwrap(), &mut xml).unwrap();
+        let parsed = model_description::ModelDescription::from_xml(&xml).unwrap();
+        assert_eq!(parsed.guid, md.guid, "the packaged XML is the model's own table");
+    }
+}
+
+fn libraries() -> Vec<(String, PathBuf)> {
+    PRODUCTS
+        .iter()
+        .map(|p| {
+            let id = (p.description)().model_identifier().unwrap().to_string();
+            let lib = built_library(&id);
+            assert!(lib.exists(), "{} missing: run `cargo run --release -p packaging` first", lib.display());
+            (id, lib)
+        })
+        .collect()
+}
+
+fn tool(cmd: &str, args: &[&str], lib: &Path) -> String {
+    let out = Command::new(cmd).args(args).arg(lib).output().unwrap_or_else(|e| panic!("running {cmd}: {e}"));
+    assert!(out.status.success(), "{cmd} failed: {}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8(out.stdout).unwrap()
+}
+
+#[test]
+fn only_fmi2_symbols_are_exported() {
+    for (id, lib) in libraries() {
+        let out = tool("nm", &["-D", "--defined-only"], &lib);
+        let symbols: Vec<&str> = out.lines().filter_map(|l| l.split_whitespace().nth(2)).collect();
+        let foreign: Vec<&&str> = symbols.iter().filter(|s| !s.starts_with("fmi2")).collect();
+        assert!(foreign.is_empty(), "{id}: non-FMI symbols exported: {foreign:?}");
+        for f in ["fmi2Instantiate", "fmi2DoStep", "fmi2GetReal", "fmi2SerializeFMUstate", "fmi2GetBooleanStatus"] {
+            assert!(symbols.contains(&f), "{id}: {f} not exported");
+        }
+        assert_eq!(symbols.len(), 34, "{id}: the 34 common and co-simulation functions of FMI 2.0");
+    }
+}
+
+#[test]
+fn depends_on_the_c_runtime_only() {
+    // libgcc_s provides the unwinder that turns a panic into fmi2Fatal; it is
+    // part of every GNU/Linux C runtime installation.
+    let allowed = ["libc.so.6", "libm.so.6", "libgcc_s.so.1", "ld-linux-x86-64.so.2", "libpthread.so.0", "libdl.so.2", "librt.so.1"];
+    for (id, lib) in libraries() {
+        let out = tool("readelf", &["-d"], &lib);
+        for line in out.lines().filter(|l| l.contains("(NEEDED)")) {
+            let name = line.split('[').nth(1).and_then(|s| s.split(']').next()).unwrap();
+            assert!(allowed.contains(&name), "{id} needs {name}");
+        }
+    }
+}
+
+/// Directory of the official FMI 2.0 headers inside the `fmi-sys` package
+/// (a never-built dependency of this crate, fetched by cargo).
+fn official_headers() -> PathBuf {
+    let out = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+        .args(["metadata", "--format-version", "1"])
+        .current_dir(workspace_root())
+        .output()
+        .expect("cargo metadata");
+    assert!(out.status.success(), "cargo metadata failed: {}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let pos = text.find("\"name\":\"fmi-sys\"").expect("fmi-sys in cargo metadata");
+    let tail = &text[pos..];
+    let key = "\"manifest_path\":\"";
+    let start = tail.find(key).unwrap() + key.len();
+    let manifest = &tail[start..start + tail[start..].find('"').unwrap()];
+    let dir = Path::new(manifest).parent().unwrap().join("fmi-standard2").join("headers");
+    assert!(dir.join("fmi2Functions.h").exists(), "no FMI 2.0 headers in {}", dir.display());
+    dir
+}
+
+#[test]
+fn c_header_matches_the_official_fmi2_headers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let header = tmp.path().join("fmi2_export.h");
+    let config = cbindgen::Config {
+        language: cbindgen::Language::C,
+        no_includes: true,
+        usize_is_size_t: true,
+        include_guard: Some("FMI2_EXPORT_GENERATED_H".into()),
+        ..Default::default()
+    };
+    cbindgen::Builder::new()
+        .with_config(config)
+        .with_src(workspace_root().join("fmi2-export/src/exports.rs"))
+        .generate()
+        .expect("cbindgen")
+        .write_to_file(&header);
+    let text = std::fs::read_to_string(&header).unwrap();
+    assert_eq!(text.lines().filter(|l| l.contains(" fmi2") && l.contains('(')).count(), 34, "{text}");
+    let abi_size = std::mem::size_of::<fmi2_abi::fmi2CallbackFunctions>();
+    let check = tmp.path().join("check.c");
+    std::fs::write(
+        &check,
+        format!(
+            "#include <stddef.h>\n#include \"fmi2Functions.h\"\n#include \"fmi2_export.h\"\n\
+             _Static_assert(sizeof(fmi2CallbackFunctions) == {abi_size}, \"fmi2CallbackFunctions size\");\n\
+             _Static_assert(offsetof(fmi2CallbackFunctions, componentEnvironment) == {}, \"offset\");\n\
+             _Static_assert(sizeof(fmi2Status) == {}, \"fmi2Status size\");\n\
+             int main(void) {{ fmi2DoStepTYPE *f = fmi2DoStep; fmi2InstantiateTYPE *g = fmi2Instantiate; return f == 0 || g == 0; }}\n",
+            std::mem::offset_of!(fmi2_abi::fmi2CallbackFunctions, componentEnvironment),
+            std::mem::size_of::<fmi2_abi::fmi2Status>(),
+        ),
+    )
+    .unwrap();
+    let out = Command::new("gcc")
+        .args(["-std=c11", "-Wall", "-Werror", "-fsyntax-only", "-I"])
+        .arg(official_headers())
+        .arg("-I")
+        .arg(tmp.path())
+        .arg(&check)
+        .output()
+        .expect("gcc");
+    assert!(out.status.success(), "C header check failed:\n{}\n{text}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn a_signature_mismatch_fails_the_c_check() {
+    // The check above must be able to fail: a header with one wrong parameter type is rejected.
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("bad.h"), "fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Real wrong);\n").unwrap();
+    std::fs::write(tmp.path().join("check.c"), "#include \"fmi2Functions.h\"\n#include \"bad.h\"\n").unwrap();
+    let out = Command::new("gcc")
+        .args(["-std=c11", "-fsyntax-only", "-I"])
+        .arg(official_headers())
+        .arg("-I")
+        .arg(tmp.path())
+        .arg(tmp.path().join("check.c"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+}

@@ -1,0 +1,53 @@
+"""FMPy accepts both product FMUs: validation without problems, simulation with defaults."""
+import numpy as np
+import pytest
+from fmpy import read_model_description, simulate_fmu
+from fmpy.validation import validate_fmu
+
+from conftest import fmu_path
+
+
+@pytest.mark.parametrize("name", ["MillingPlant", "ChatterController"])
+def test_fmpy_validate_reports_no_problems(name):
+    problems = validate_fmu(str(fmu_path(name)))
+    assert problems == [], "\n".join(problems)
+
+
+@pytest.mark.parametrize("name", ["MillingPlant", "ChatterController"])
+def test_model_description_is_co_simulation_with_units(name):
+    md = read_model_description(str(fmu_path(name)))
+    assert md.coSimulation is not None and md.coSimulation.modelIdentifier == name
+    assert md.modelExchange is None
+    units = {u.name for u in md.unitDefinitions}
+    assert units, "UnitDefinitions must declare the SI units used"
+    for v in md.modelVariables:
+        if v.type == "Real" and v.unit is not None:
+            assert v.unit in units, f"{v.name}: unit {v.unit} not declared"
+
+
+def test_plant_simulates_one_second_with_defaults(plant_fmu):
+    result = simulate_fmu(str(plant_fmu), stop_time=1.0, output_interval=1e-4, fmi_type="CoSimulation")
+    assert result["time"][-1] == pytest.approx(1.0)
+    md = read_model_description(str(plant_fmu))
+    outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
+    for name in outputs:
+        assert np.all(np.isfinite(result[name])), name
+    # the default scenario cuts and is disturbed: the tip moves
+    displacement = [n for n in outputs if n in ("x", "tip.x", "workpiece.x", "displacement")]
+    assert displacement, f"no tip displacement among outputs {outputs}"
+    x = result[displacement[0]]
+    assert np.std(x) > 1e-9
+
+
+def test_controller_simulates_with_an_input_signal(controller_fmu):
+    t = np.arange(0.0, 0.05 + 1e-12, 1e-4)
+    signal = np.array(list(zip(t, 1e-6 * np.sin(2 * np.pi * 143.0 * t))), dtype=[("time", np.float64), ("y", np.float64)])
+    result = simulate_fmu(
+        str(controller_fmu), stop_time=0.05, output_interval=1e-4, input=signal, fmi_type="CoSimulation"
+    )
+    u = result["u"]
+    assert np.all(np.isfinite(u))
+    md = read_model_description(str(controller_fmu))
+    u_max = next(float(v.start) for v in md.modelVariables if v.name == "u_max")
+    assert np.max(np.abs(u)) <= u_max
+    assert np.max(np.abs(u[len(u) // 2 :])) > 0.0, "the default controller acts on a 1 um chatter-band input"

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# The project's test command (README "Run all the tests"). On a fresh machine
+# it installs what it needs: the Rust crates (cargo fetches them) and a Python
+# venv with FMPy, pythonfmu and pytest from PyPI. Then: formatting, clippy,
+# building the FMUs, every Rust test, the leak check of the export layer, and
+# the Python (FMPy) tests.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$(pwd)
+step() { printf '\n=== %s ===\n' "$*"; }
+
+step "Python venv with FMPy"
+if [ ! -x .venv/bin/python ]; then
+    python3 -m venv .venv
+fi
+.venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt
+
+step "cargo fmt --check"
+cargo fmt --all --check
+
+step "cargo clippy"
+cargo clippy --workspace --all-targets --release -- -D warnings
+
+step "build the FMUs (target/fmu)"
+cargo run --release -p packaging
+
+step "cargo test"
+cargo test --workspace --release
+
+step "leak check of the export layer (valgrind)"
+if command -v valgrind >/dev/null; then
+    bin=$(cargo test --release -p fmi2-export --test c_api --no-run --message-format=json 2>/dev/null \
+        | .venv/bin/python -c 'import json,sys
+for l in sys.stdin:
+    m=json.loads(l)
+    if m.get("reason")=="compiler-artifact" and m.get("executable") and m["target"]["name"]=="c_api": print(m["executable"])')
+    valgrind --quiet --leak-check=full --errors-for-leak-kinds=definite --error-exitcode=1 \
+        "$bin" --test-threads=1 2>&1 | tail -n 5
+    echo "valgrind: no definite leaks, no memory errors"
+else
+    echo "valgrind not installed: leak check FAILED to run" >&2
+    exit 1
+fi
+
+step "Python tests (FMPy)"
+FMU_DIR="$root/target/fmu" .venv/bin/python -m pytest -q tests/python
