@@ -411,3 +411,13 @@ fn environment_pointer_is_passed_back() {
     let log = common::LOG.lock().unwrap();
     assert!(log.iter().any(|m| m.1 == "env" && m.0 == 4242));
 }
+
+#[test]
+fn writes_the_test_model_description_for_external_validation() {
+    // tests/python/test_export_layer.py validates this file with FMPy's XSD checks.
+    use fmi2_export::Fmi2Model;
+    let xml = common::Oscillator::description().to_xml().unwrap();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/fmu-test");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("Oscillator.modelDescription.xml"), xml).unwrap();
+}
