@@ -151,7 +151,10 @@ pub fn write_fmu(md: &ModelDescription, docs: &str, library: &Path, out: &Path) 
     zip.start_file("documentation/index.html", opts)?;
     zip.write_all(documentation_html(md, docs).as_bytes())?;
     zip.start_file("resources/README.txt", opts)?;
-    zip.write_all(format!("{} needs no resource files; this directory exists for masters that expect it.\n", md.model_name).as_bytes())?;
+    zip.write_all(
+        format!("{} needs no resource files; this directory exists for masters that expect it.\n", md.model_name)
+            .as_bytes(),
+    )?;
     zip.finish()?;
     std::fs::rename(&tmp, out)?;
     Ok(())

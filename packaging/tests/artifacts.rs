@@ -25,7 +25,8 @@ fn cdylib_name_model_identifier_and_binary_name_are_one_string() {
         assert_eq!(lib_name_of(p.package), id, "{}: [lib] name must equal modelIdentifier", p.package);
         assert_eq!(md.model_name, id);
         let fmu = fmu_dir().join(format!("{id}.fmu"));
-        let f = std::fs::File::open(&fmu).unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -p packaging`)", fmu.display()));
+        let f = std::fs::File::open(&fmu)
+            .unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -p packaging`)", fmu.display()));
         let mut z = zip::ZipArchive::new(f).unwrap();
         let names: Vec<String> = z.file_names().map(String::from).collect();
         for required in ["modelDescription.xml", &format!("binaries/linux64/{id}.so"), "documentation/index.html"] {
@@ -74,7 +75,15 @@ fn only_fmi2_symbols_are_exported() {
 fn depends_on_the_c_runtime_only() {
     // libgcc_s provides the unwinder that turns a panic into fmi2Fatal; it is
     // part of every GNU/Linux C runtime installation.
-    let allowed = ["libc.so.6", "libm.so.6", "libgcc_s.so.1", "ld-linux-x86-64.so.2", "libpthread.so.0", "libdl.so.2", "librt.so.1"];
+    let allowed = [
+        "libc.so.6",
+        "libm.so.6",
+        "libgcc_s.so.1",
+        "ld-linux-x86-64.so.2",
+        "libpthread.so.0",
+        "libdl.so.2",
+        "librt.so.1",
+    ];
     for (id, lib) in libraries() {
         let out = tool("readelf", &["-d"], &lib);
         for line in out.lines().filter(|l| l.contains("(NEEDED)")) {
@@ -153,7 +162,11 @@ fn c_header_matches_the_official_fmi2_headers() {
 fn a_signature_mismatch_fails_the_c_check() {
     // The check above must be able to fail: a header with one wrong parameter type is rejected.
     let tmp = tempfile::tempdir().unwrap();
-    std::fs::write(tmp.path().join("bad.h"), "fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Real wrong);\n").unwrap();
+    std::fs::write(
+        tmp.path().join("bad.h"),
+        "fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Real wrong);\n",
+    )
+    .unwrap();
     std::fs::write(tmp.path().join("check.c"), "#include \"fmi2Functions.h\"\n#include \"bad.h\"\n").unwrap();
     let out = Command::new("gcc")
         .args(["-std=c11", "-fsyntax-only", "-I"])
