@@ -1,0 +1,194 @@
+//! Streaming CSV results in FMPy's convention: a header of quoted names,
+//! `"time"` first, then one row per output point; numbers in the shortest
+//! form that reads back to the same double (integral values without a
+//! fraction, booleans as 0/1).
+
+use crate::engine::Observer;
+use crate::error::SimError;
+use std::io::{BufRead, BufWriter, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// Format one value exactly (round-trips through `f64::from_str` and Python's `float`).
+pub fn format_value(x: f64) -> String {
+    if x.is_finite() && x.fract() == 0.0 && x.abs() < 1e15 {
+        if x == 0.0 && x.is_sign_negative() {
+            return "-0".into();
+        }
+        format!("{}", x as i64)
+    } else if x.is_nan() {
+        "nan".into()
+    } else if x.is_infinite() {
+        if x > 0.0 { "inf".into() } else { "-inf".into() }
+    } else {
+        format!("{x:?}")
+    }
+}
+
+/// An [`Observer`] writing a CSV file as the run goes. Memory is constant;
+/// the file is flushed at least every half second and when the run ends
+/// (also when it fails), so a failed run keeps the rows it had.
+pub struct CsvWriter {
+    path: PathBuf,
+    out: BufWriter<std::fs::File>,
+    last_flush: Instant,
+    rows: u64,
+    line: String,
+}
+
+impl CsvWriter {
+    /// Create (truncate) the file.
+    pub fn create(path: &Path) -> Result<CsvWriter, SimError> {
+        if let Some(dir) = path.parent()
+            && !dir.as_os_str().is_empty()
+        {
+            std::fs::create_dir_all(dir).map_err(|source| SimError::Output { path: dir.to_path_buf(), source })?;
+        }
+        let f = std::fs::File::create(path).map_err(|source| SimError::Output { path: path.to_path_buf(), source })?;
+        Ok(CsvWriter {
+            path: path.to_path_buf(),
+            out: BufWriter::with_capacity(1 << 16, f),
+            last_flush: Instant::now(),
+            rows: 0,
+            line: String::new(),
+        })
+    }
+
+    /// Rows written so far.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    fn err(&self, source: std::io::Error) -> SimError {
+        SimError::Output { path: self.path.clone(), source }
+    }
+}
+
+fn quote(name: &str) -> String {
+    format!("\"{}\"", name.replace('"', "\"\""))
+}
+
+impl Observer for CsvWriter {
+    fn start(&mut self, names: &[String]) -> Result<(), SimError> {
+        let mut header = vec![quote("time")];
+        header.extend(names.iter().map(|n| quote(n)));
+        writeln!(self.out, "{}", header.join(",")).map_err(|e| self.err(e))
+    }
+
+    fn sample(&mut self, t: f64, values: &[f64]) -> Result<(), SimError> {
+        use std::fmt::Write as _;
+        self.line.clear();
+        self.line.push_str(&format_value(t));
+        for v in values {
+            self.line.push(',');
+            let _ = write!(self.line, "{}", format_value(*v));
+        }
+        self.line.push('\n');
+        self.out.write_all(self.line.as_bytes()).map_err(|e| self.err(e))?;
+        self.rows += 1;
+        if self.rows % 256 == 0 && self.last_flush.elapsed() > Duration::from_millis(500) {
+            self.out.flush().map_err(|e| self.err(e))?;
+            self.last_flush = Instant::now();
+        }
+        Ok(())
+    }
+
+    fn finish(&mut self) -> Result<(), SimError> {
+        self.out.flush().map_err(|e| self.err(e))
+    }
+}
+
+/// A CSV file read back: column names (without quotes) and columns.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    /// Column names, `time` first.
+    pub names: Vec<String>,
+    /// Columns, same order.
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl Table {
+    /// The column named `name`.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.names.iter().position(|n| n == name).map(|i| self.columns[i].as_slice())
+    }
+}
+
+/// Read a CSV written by [`CsvWriter`] (or FMPy's `write_csv`, numeric columns).
+pub fn read_csv(path: &Path) -> anyhow::Result<Table> {
+    use anyhow::Context;
+    let f = std::fs::File::open(path).with_context(|| format!("opening {}", path.display()))?;
+    let mut lines = std::io::BufReader::new(f).lines();
+    let header = lines.next().context("empty CSV file")??;
+    let names: Vec<String> = header.split(',').map(|s| s.trim().trim_matches('"').to_string()).collect();
+    let mut columns = vec![Vec::new(); names.len()];
+    for (i, line) in lines.enumerate() {
+        let line = line?;
+        if line.trim().is_empty() {
+            continue;
+        }
+        let cells: Vec<&str> = line.split(',').collect();
+        anyhow::ensure!(
+            cells.len() == names.len(),
+            "{}: row {} has {} cells, expected {}",
+            path.display(),
+            i + 2,
+            cells.len(),
+            names.len()
+        );
+        for (c, cell) in cells.iter().enumerate() {
+            let v = match cell.trim() {
+                "True" | "true" => 1.0,
+                "False" | "false" => 0.0,
+                s => s
+                    .parse::<f64>()
+                    .with_context(|| format!("{}: row {}: '{s}' is not a number", path.display(), i + 2))?,
+            };
+            columns[c].push(v);
+        }
+    }
+    Ok(Table { names, columns })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_are_written_exactly() {
+        for x in [0.1, 1.0 / 3.0, -2.5e-300, 6.02214076e23, 1e-5, 123456.789, f64::MIN_POSITIVE, 2000.0, -7.0, 0.0] {
+            let s = format_value(x);
+            assert_eq!(s.parse::<f64>().unwrap().to_bits(), x.to_bits(), "{x} -> {s}");
+        }
+        assert_eq!(format_value(2000.0), "2000");
+        assert_eq!(format_value(1e-5), "1e-5");
+        assert_eq!(format_value(1.0 / 3.0), "0.3333333333333333");
+        assert_eq!(format_value(f64::NAN), "nan");
+    }
+
+    #[test]
+    fn writer_streams_fmpy_style_csv_and_reads_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("sub/r.csv");
+        let mut w = CsvWriter::create(&p).unwrap();
+        w.start(&["plant.x".into(), "controller.u".into()]).unwrap();
+        w.sample(0.0, &[1e-6, 0.0]).unwrap();
+        w.sample(1e-5, &[-3.25e-7, 27.0]).unwrap();
+        // Before finish(), rows may still be buffered; after it they are on disk.
+        w.finish().unwrap();
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert_eq!(text, "\"time\",\"plant.x\",\"controller.u\"\n0,1e-6,0\n1e-5,-3.25e-7,27\n");
+        let t = read_csv(&p).unwrap();
+        assert_eq!(t.names, vec!["time", "plant.x", "controller.u"]);
+        assert_eq!(t.column("controller.u").unwrap(), &[0.0, 27.0]);
+        assert_eq!(t.column("time").unwrap()[1], 1e-5);
+    }
+
+    #[test]
+    fn ragged_rows_are_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("bad.csv");
+        std::fs::write(&p, "\"time\",\"a\"\n0,1\n1\n").unwrap();
+        assert!(read_csv(&p).unwrap_err().to_string().contains("row 3 has 1 cells"));
+    }
+}

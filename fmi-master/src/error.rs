@@ -1,0 +1,221 @@
+//! Error types of the master.
+//!
+//! [`FmuError`] is what loading an FMU and calling it can fail with: every
+//! failed FMI call names the instance, the call, the simulation time and
+//! quotes the FMU's own recent log lines. [`SetupError`] covers a system
+//! that cannot be assembled (unknown component or variable, type mismatch,
+//! bad `--set` value). [`SimError`] is the union the run engine returns.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// The last log lines of an FMU instance, quoted in errors.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LogExcerpt(pub Vec<String>);
+
+impl fmt::Display for LogExcerpt {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.is_empty() {
+            return write!(f, "\n  (the FMU logged nothing)");
+        }
+        write!(f, "\n  the FMU's log:")?;
+        for l in &self.0 {
+            write!(f, "\n    {l}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Errors from opening an FMU and from calls into it.
+#[derive(Debug, thiserror::Error)]
+pub enum FmuError {
+    /// File-system error.
+    #[error("{context} {}: {source}", path.display())]
+    Io {
+        /// What was being done.
+        context: &'static str,
+        /// The path involved.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Not a readable zip archive.
+    #[error("{} is not a valid zip archive: {reason}", path.display())]
+    Archive {
+        /// The archive.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// A zip entry that would escape the extraction directory (or is a link).
+    #[error("refusing to extract {}: unsafe entry '{entry}' ({reason})", path.display())]
+    UnsafeEntry {
+        /// The archive.
+        path: PathBuf,
+        /// The entry's name as stored.
+        entry: String,
+        /// Why it is unsafe.
+        reason: &'static str,
+    },
+    /// `modelDescription.xml` missing or unparsable.
+    #[error("FMU {fmu}: {message}")]
+    Description {
+        /// FMU file name.
+        fmu: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// The FMU has no co-simulation interface.
+    #[error("FMU {fmu} does not support co-simulation (its modelDescription.xml has no <CoSimulation> element)")]
+    NotCoSimulation {
+        /// FMU file name.
+        fmu: String,
+    },
+    /// No shared library for this platform.
+    #[error("FMU {fmu} has no binary for {platform}; it has: {available}")]
+    MissingBinary {
+        /// FMU file name.
+        fmu: String,
+        /// The platform we need (`linux64`).
+        platform: &'static str,
+        /// Platforms the archive has binaries for.
+        available: String,
+    },
+    /// `dlopen` failed.
+    #[error("FMU {fmu}: cannot load {}: {message}{hint}", path.display())]
+    Load {
+        /// FMU file name.
+        fmu: String,
+        /// The shared library.
+        path: PathBuf,
+        /// The loader's message.
+        message: String,
+        /// A hint for known cases (e.g. pythonfmu needs libpython).
+        hint: String,
+    },
+    /// Required FMI functions are not exported.
+    #[error("FMU {fmu}: the binary does not export the FMI 2.0 function(s) {missing}")]
+    MissingSymbols {
+        /// FMU file name.
+        fmu: String,
+        /// Missing function names.
+        missing: String,
+    },
+    /// The binary reports another FMI version than the XML.
+    #[error("FMU {fmu}: the binary reports FMI version '{version}', expected 2.0")]
+    Version {
+        /// FMU file name.
+        fmu: String,
+        /// What `fmi2GetVersion` returned.
+        version: String,
+    },
+    /// `fmi2Instantiate` returned NULL (wrong GUID, bad resources, ...).
+    #[error("FMU {model}: fmi2Instantiate of instance '{instance}' failed (returned NULL){log}")]
+    Instantiate {
+        /// Instance name.
+        instance: String,
+        /// Model identifier.
+        model: String,
+        /// The FMU's log.
+        log: LogExcerpt,
+    },
+    /// An FMI call returned Discard, Error, Fatal or Pending.
+    #[error("FMU instance '{instance}' ({model}): {call} returned {status} at t = {time} s{log}")]
+    Call {
+        /// Instance name.
+        instance: String,
+        /// Model identifier.
+        model: String,
+        /// The FMI function.
+        call: &'static str,
+        /// The status name (`fmi2Error`, ...).
+        status: &'static str,
+        /// Simulation time of the call (the communication point for `fmi2DoStep`).
+        time: f64,
+        /// The FMU's recent log lines.
+        log: LogExcerpt,
+    },
+    /// A call the instance cannot accept in its current state (caught by the master).
+    #[error("FMU instance '{instance}': {call} is not allowed {state}")]
+    State {
+        /// Instance name.
+        instance: String,
+        /// The FMI function.
+        call: &'static str,
+        /// Description of the current state.
+        state: &'static str,
+    },
+    /// Invalid arguments given by the master's caller.
+    #[error("FMU instance '{instance}': {call}: {message}")]
+    Argument {
+        /// Instance name.
+        instance: String,
+        /// The FMI function.
+        call: &'static str,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Errors while assembling a system (before any step is taken).
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    /// A component name that the system does not have.
+    #[error("unknown component '{name}' (the system has: {known})")]
+    UnknownComponent {
+        /// The name given.
+        name: String,
+        /// The component names of the system.
+        known: String,
+    },
+    /// A variable name the FMU does not declare.
+    #[error("{context}: component '{component}' ({fmu}) has no variable '{name}'{suggestion}")]
+    UnknownVariable {
+        /// Where the name was used (a connection, `--set`, `--record`...).
+        context: String,
+        /// Component name.
+        component: String,
+        /// FMU file name.
+        fmu: String,
+        /// The name given.
+        name: String,
+        /// ", did you mean …?" or empty.
+        suggestion: String,
+    },
+    /// Connected or assigned types do not agree.
+    #[error("type mismatch: {0}")]
+    TypeMismatch(String),
+    /// A variable used against its causality (e.g. a connection into an output).
+    #[error("{0}")]
+    Causality(String),
+    /// A `--set` or parameter value that cannot be used.
+    #[error("{0}")]
+    Value(String),
+    /// Anything else about the system description.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// Everything a simulation run can fail with.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// Loading or calling an FMU failed.
+    #[error(transparent)]
+    Fmu(#[from] FmuError),
+    /// The system could not be assembled.
+    #[error(transparent)]
+    Setup(#[from] SetupError),
+    /// The system description could not be read.
+    #[error(transparent)]
+    Ssp(#[from] crate::ssp::SspError),
+    /// Writing results failed.
+    #[error("writing {}: {source}", path.display())]
+    Output {
+        /// The output file.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+}
