@@ -344,7 +344,12 @@ impl ModelBuilder {
     }
 
     /// Declare a unit by its SI base-unit exponents: `kg, m, s, A, K, mol, cd, rad`.
-    pub fn unit(mut self, name: &str, exps: [i32; 8]) -> Self {
+    pub fn unit(self, name: &str, exps: [i32; 8]) -> Self {
+        self.unit_scaled(name, exps, 1.0)
+    }
+
+    /// Declare a unit that is `factor` times its SI base units (e.g. rpm = 2π/60 rad/s).
+    pub fn unit_scaled(mut self, name: &str, exps: [i32; 8], factor: f64) -> Self {
         let nz = |e: i32| if e == 0 { None } else { Some(e) };
         let base = BaseUnit {
             kg: nz(exps[0]),
@@ -355,7 +360,7 @@ impl ModelBuilder {
             mol: nz(exps[5]),
             cd: nz(exps[6]),
             rad: nz(exps[7]),
-            factor: None,
+            factor: (factor - 1.0).abs().gt(&0.0).then_some(factor),
             offset: None,
         };
         self.md

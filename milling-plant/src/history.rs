@@ -1,0 +1,104 @@
+//! Displacement history indexed by tool angle, for the regenerative delay.
+//!
+//! The delay is the time since the previous tooth passed the current tooth's angle: with the
+//! tool angle `θ(t) = ∫Ω dt`, the surface a tooth meets at `t` was left at `t*` where
+//! `θ(t*) = θ(t) − 2π/Z`. The history stores `(t, θ, x, ẋ)` at the end of every internal step;
+//! a lookup finds the bracketing samples by bisection on θ, converts the angle fraction into a
+//! time fraction (Ω is constant within a step, so θ is linear there) and interpolates `x` with
+//! the cubic Hermite polynomial through both samples' displacement and velocity (third order,
+//! as accurate as the RK4 integrator uses it). At constant speed `t − t* = 60/(Z N)` exactly.
+//! Before the first sample the surface is taken as flat (`x = 0`): the cut starts on a fresh,
+//! non-wavy surface.
+
+use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
+
+/// One stored instant.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub struct Sample {
+    /// Time [s].
+    pub t: f64,
+    /// Tool angle [rad], non-decreasing.
+    pub theta: f64,
+    /// Tip displacement [m].
+    pub x: f64,
+    /// Tip velocity [m/s].
+    pub v: f64,
+}
+
+/// The history buffer.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct History {
+    buf: VecDeque<Sample>,
+}
+
+impl History {
+    /// Append a sample (angles must not decrease).
+    pub fn push(&mut self, s: Sample) {
+        debug_assert!(self.buf.back().is_none_or(|b| b.theta <= s.theta));
+        self.buf.push_back(s);
+    }
+
+    /// Drop samples no lookup at angle ≥ `theta_min` needs.
+    pub fn prune(&mut self, theta_min: f64) {
+        while self.buf.len() > 2 && self.buf[1].theta <= theta_min {
+            self.buf.pop_front();
+        }
+    }
+
+    /// Number of stored samples.
+    pub fn len(&self) -> usize {
+        self.buf.len()
+    }
+
+    /// Is the history empty?
+    pub fn is_empty(&self) -> bool {
+        self.buf.is_empty()
+    }
+
+    /// `(t*, x(t*))` where `θ(t*) = theta`; `None` if `theta` precedes the history (fresh surface).
+    /// An angle past the newest sample returns the newest sample.
+    pub fn at_angle(&self, theta: f64) -> Option<(f64, f64)> {
+        let first = self.buf.front()?;
+        if theta < first.theta {
+            return None;
+        }
+        let i = self.buf.partition_point(|s| s.theta <= theta);
+        if i >= self.buf.len() {
+            let last = self.buf.back()?;
+            return Some((last.t, last.x));
+        }
+        let (a, b) = (self.buf[i - 1], self.buf[i]);
+        let s = (theta - a.theta) / (b.theta - a.theta);
+        let dt = b.t - a.t;
+        let (s2, s3) = (s * s, s * s * s);
+        let x = (2.0 * s3 - 3.0 * s2 + 1.0) * a.x
+            + (s3 - 2.0 * s2 + s) * dt * a.v
+            + (-2.0 * s3 + 3.0 * s2) * b.x
+            + (s3 - s2) * dt * b.v;
+        Some((a.t + s * dt, x))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hermite_interpolation_is_exact_for_cubics_and_angles_map_to_times() {
+        let f = |t: f64| 1.0 + t - 2.0 * t * t + 0.5 * t * t * t;
+        let df = |t: f64| 1.0 - 4.0 * t + 1.5 * t * t;
+        let mut h = History::default();
+        let omega = 10.0;
+        for k in 0..20 {
+            let t = 0.1 * k as f64;
+            h.push(Sample { t, theta: omega * t, x: f(t), v: df(t) });
+        }
+        let (t, x) = h.at_angle(omega * 0.537).unwrap();
+        assert!((t - 0.537).abs() < 1e-12);
+        assert!((x - f(0.537)).abs() < 1e-12);
+        assert!(h.at_angle(-0.1).is_none());
+        h.prune(omega * 1.0);
+        assert!(h.len() < 20 && h.at_angle(omega * 1.0).is_some());
+    }
+}

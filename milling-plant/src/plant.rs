@@ -1,0 +1,394 @@
+//! The time-domain plant: workpiece modes, cutting force with regeneration, inertial actuator,
+//! disturbances, integrated with classical RK4 on a fixed internal grid.
+//!
+//! # Equations
+//!
+//! Each enabled mode `i` obeys `m_i q̈_i + c_i q̇_i + k_i(t) q_i = F(t)` with the tip force
+//! `F = F_c + F_a + d(t)` and tip displacement `x = Σ q_i`. Drift modulates the first mode's
+//! stiffness: `k_1(t) = K_w (1 + A sin 2π f_d t)` (Section 5.1's ±10 % at 0.5 Hz; Section 3.4's
+//! "A_drift = 0.1 K_w" as a force would be a 2.4 MN force, dimensionally inconsistent, so we read
+//! it as the relative stiffness amplitude).
+//! The actuator integrates `ż = A z + B u_sat`, `F_a = C z + D u_sat`, with the command `u`
+//! clipped to ±`f_max` and held over the communication step. Cutting: see [`crate::params`].
+//!
+//! # Grid
+//!
+//! The integrator advances in cells of `internal_step` anchored at the start time; the noise
+//! sample of a cell is drawn when the cell is entered and held over it. A communication step
+//! that ends on the grid runs whole cells, so any two masters whose steps are multiples of
+//! the internal step see bitwise-identical trajectories. A step ending inside a cell runs a
+//! partial RK4 step to the communication point and the next step completes the cell.
+
+use crate::history::{History, Sample};
+use crate::noise::BandLimitedNoise;
+use crate::params::{CuttingModel, Mode, PlantParams};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+
+/// Why the plant refused to start or to step.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PlantError {
+    /// A parameter is out of range.
+    #[error("invalid parameter: {0}")]
+    Parameter(String),
+    /// An input is out of range (the step was not taken).
+    #[error("invalid input: {0}")]
+    Input(String),
+    /// The state left any physical range (e.g. unbounded chatter growth).
+    #[error("the simulation diverged at t = {t} s (|x| = {x} m)")]
+    Diverged {
+        /// Time [s].
+        t: f64,
+        /// Tip displacement [m].
+        x: f64,
+    },
+}
+
+/// Inputs held over a step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlantInputs {
+    /// Actuator command [N] (clipped to ±f_max inside the plant).
+    pub u: f64,
+    /// Spindle speed [rpm] (≥ 0).
+    pub spindle_speed_rpm: f64,
+    /// Feed per tooth [m] (≥ 0).
+    pub feed_per_tooth: f64,
+}
+
+impl Default for PlantInputs {
+    fn default() -> Self {
+        PlantInputs {
+            u: 0.0,
+            spindle_speed_rpm: crate::params::DEFAULT_SPINDLE_SPEED,
+            feed_per_tooth: crate::params::DEFAULT_FEED_PER_TOOTH,
+        }
+    }
+}
+
+/// Plant outputs at the current time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PlantOutputs {
+    /// Tip displacement [m].
+    pub x: f64,
+    /// Tip velocity [m/s].
+    pub v: f64,
+    /// Cutting force along the beam [N].
+    pub cutting_force: f64,
+    /// Actuator force on the beam [N].
+    pub actuator_force: f64,
+    /// Disturbance force (noise + sinusoid) [N].
+    pub disturbance_force: f64,
+    /// Largest chip thickness among the engaged teeth [m] (0 if none cuts).
+    pub chip_thickness: f64,
+    /// Was the command clipped?
+    pub saturated: bool,
+    /// Tool angle θ mod 2π [rad].
+    pub tool_angle: f64,
+    /// Regenerative delay t − t* [s] (0 before the first full tooth period).
+    pub delay: f64,
+}
+
+const MAX_MODES: usize = 3;
+
+/// Mechanical state: modal coordinates, velocities, actuator states.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+struct State {
+    q: [f64; MAX_MODES],
+    qd: [f64; MAX_MODES],
+    z: [f64; 2],
+}
+
+impl State {
+    fn axpy(&self, h: f64, d: &State) -> State {
+        let mut s = *self;
+        for i in 0..MAX_MODES {
+            s.q[i] += h * d.q[i];
+            s.qd[i] += h * d.qd[i];
+        }
+        s.z[0] += h * d.z[0];
+        s.z[1] += h * d.z[1];
+        s
+    }
+}
+
+/// Cutting force and the largest chip.
+#[derive(Clone, Copy, Debug, Default)]
+struct Cut {
+    force: f64,
+    chip: f64,
+}
+
+/// The plant.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Plant {
+    p: PlantParams,
+    modes: Vec<Mode>,
+    dir: (f64, f64),
+    alpha0: f64,
+    static_coef: f64,
+    engagement: (f64, f64),
+    state: State,
+    /// Start time and grid position: t = t0 + cell·T + offset.
+    t0: f64,
+    cell: u64,
+    offset: f64,
+    theta: f64,
+    history: History,
+    noise: Option<BandLimitedNoise>,
+    noise_now: f64,
+    out: PlantOutputs,
+}
+
+impl Plant {
+    /// A plant at rest (tip at `workpiece.initial_displacement`) at time 0.
+    pub fn new(p: &PlantParams) -> Result<Plant, PlantError> {
+        Plant::new_at(p, 0.0)
+    }
+
+    /// A plant at rest at time `t0`.
+    pub fn new_at(p: &PlantParams, t0: f64) -> Result<Plant, PlantError> {
+        p.validate().map_err(PlantError::Parameter)?;
+        let modes = p.mode_list();
+        let mut state = State::default();
+        // put the initial displacement in static equilibrium shape: each mode's share of a static tip load
+        let flex: f64 = modes.iter().map(|m| 1.0 / m.stiffness).sum();
+        for (i, m) in modes.iter().enumerate() {
+            state.q[i] = p.workpiece.initial_displacement / (m.stiffness * flex);
+        }
+        let d = &p.disturbance;
+        let mut noise = (d.noise && d.noise_rms > 0.0)
+            .then(|| BandLimitedNoise::new(p.seed, d.noise_rms, d.noise_bandwidth, p.internal_step));
+        let noise_now = noise.as_mut().map_or(0.0, BandLimitedNoise::next_sample);
+        let mut plant = Plant {
+            p: p.clone(),
+            modes,
+            dir: p.direction(),
+            alpha0: p.directional_coefficient(),
+            static_coef: p.static_force_coefficient(),
+            engagement: p.engagement(),
+            state,
+            t0,
+            cell: 0,
+            offset: 0.0,
+            theta: 0.0,
+            history: History::default(),
+            noise,
+            noise_now,
+            out: PlantOutputs::default(),
+        };
+        plant.push_history();
+        plant.refresh_outputs(&PlantInputs::default(), 0.0);
+        Ok(plant)
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &PlantParams {
+        &self.p
+    }
+
+    /// Current time [s].
+    pub fn time(&self) -> f64 {
+        self.t0 + self.cell as f64 * self.p.internal_step + self.offset
+    }
+
+    /// Outputs at the current time (forces evaluated with the inputs of the last step).
+    pub fn outputs(&self) -> PlantOutputs {
+        self.out
+    }
+
+    /// Recompute the outputs for new inputs at the current time (e.g. during initialization).
+    pub fn set_inputs(&mut self, inputs: &PlantInputs) -> Result<(), PlantError> {
+        check_inputs(inputs)?;
+        let delay_dummy = self.out.delay;
+        self.refresh_outputs(inputs, delay_dummy);
+        Ok(())
+    }
+
+    /// Advance by `h` [s] with the inputs held.
+    pub fn step(&mut self, h: f64, inputs: &PlantInputs) -> Result<(), PlantError> {
+        check_inputs(inputs)?;
+        if !(h.is_finite() && h >= 0.0) {
+            return Err(PlantError::Input(format!("step size {h} must be finite and >= 0")));
+        }
+        let hi = self.p.internal_step;
+        let tol = 1e-9 * hi;
+        let t_end = self.time() + h;
+        let omega = inputs.spindle_speed_rpm * 2.0 * PI / 60.0;
+        let mut delay = self.out.delay;
+        loop {
+            let remaining = t_end - self.time();
+            if remaining <= tol {
+                break;
+            }
+            let to_cell_end = hi - self.offset;
+            let (dt, completes) = if remaining >= to_cell_end - tol { (to_cell_end, true) } else { (remaining, false) };
+            delay = self.rk4(dt, omega, inputs);
+            if completes {
+                self.cell += 1;
+                self.offset = 0.0;
+                self.noise_now = self.noise.as_mut().map_or(0.0, BandLimitedNoise::next_sample);
+            } else {
+                self.offset += dt;
+            }
+            self.push_history();
+            let x = self.tip();
+            if !(x.is_finite() && x.abs() < 1.0) {
+                return Err(PlantError::Diverged { t: self.time(), x });
+            }
+        }
+        self.refresh_outputs(inputs, delay);
+        Ok(())
+    }
+
+    fn tip(&self) -> f64 {
+        self.state.q[..self.modes.len()].iter().sum()
+    }
+
+    fn tip_velocity(&self) -> f64 {
+        self.state.qd[..self.modes.len()].iter().sum()
+    }
+
+    fn push_history(&mut self) {
+        let s = Sample { t: self.time(), theta: self.theta, x: self.tip(), v: self.tip_velocity() };
+        self.history.push(s);
+        let pitch = 2.0 * PI / self.p.cutting.teeth as f64;
+        self.history.prune(self.theta - pitch);
+    }
+
+    /// One RK4 step of length `dt`; returns the delay at the end of the step.
+    fn rk4(&mut self, dt: f64, omega: f64, inputs: &PlantInputs) -> f64 {
+        let t = self.time();
+        let s0 = self.state;
+        let th = self.theta;
+        let k1 = self.deriv(t, th, &s0, omega, inputs);
+        let s1 = s0.axpy(0.5 * dt, &k1);
+        let k2 = self.deriv(t + 0.5 * dt, th + 0.5 * dt * omega, &s1, omega, inputs);
+        let s2 = s0.axpy(0.5 * dt, &k2);
+        let k3 = self.deriv(t + 0.5 * dt, th + 0.5 * dt * omega, &s2, omega, inputs);
+        let s3 = s0.axpy(dt, &k3);
+        let k4 = self.deriv(t + dt, th + dt * omega, &s3, omega, inputs);
+        let mut s = s0;
+        for i in 0..MAX_MODES {
+            s.q[i] += dt / 6.0 * (k1.q[i] + 2.0 * k2.q[i] + 2.0 * k3.q[i] + k4.q[i]);
+            s.qd[i] += dt / 6.0 * (k1.qd[i] + 2.0 * k2.qd[i] + 2.0 * k3.qd[i] + k4.qd[i]);
+        }
+        for j in 0..2 {
+            s.z[j] += dt / 6.0 * (k1.z[j] + 2.0 * k2.z[j] + 2.0 * k3.z[j] + k4.z[j]);
+        }
+        self.state = s;
+        self.theta = th + dt * omega;
+        let pitch = 2.0 * PI / self.p.cutting.teeth as f64;
+        self.history.at_angle(self.theta - pitch).map_or(0.0, |(ts, _)| t + dt - ts)
+    }
+
+    fn u_sat(&self, u: f64) -> (f64, bool) {
+        let f = self.p.actuator.f_max;
+        (u.clamp(-f, f), u.abs() > f)
+    }
+
+    fn actuator_force(&self, z: &[f64; 2], u_sat: f64) -> f64 {
+        let a = &self.p.actuator;
+        a.c[0] * z[0] + a.c[1] * z[1] + a.d * u_sat
+    }
+
+    fn disturbance(&self, t: f64) -> f64 {
+        let d = &self.p.disturbance;
+        let sine =
+            if d.sine_amplitude == 0.0 { 0.0 } else { d.sine_amplitude * (2.0 * PI * d.sine_frequency * t).sin() };
+        self.noise_now + sine
+    }
+
+    fn first_stiffness(&self, t: f64) -> f64 {
+        let d = &self.p.disturbance;
+        let k = self.modes[0].stiffness;
+        if d.drift { k * (1.0 + d.drift_amplitude * (2.0 * PI * d.drift_frequency * t).sin()) } else { k }
+    }
+
+    /// Cutting force along the beam at tool angle `theta`, tip displacement `x`.
+    fn cutting(&self, theta: f64, x: f64, omega: f64, inputs: &PlantInputs) -> Cut {
+        let c = &self.p.cutting;
+        if !c.enabled || omega <= 0.0 || c.axial_depth == 0.0 {
+            return Cut::default();
+        }
+        let pitch = 2.0 * PI / c.teeth as f64;
+        let x_prev = self.history.at_angle(theta - pitch).map_or(0.0, |(_, xp)| xp);
+        let dx = x - x_prev;
+        let fz = inputs.feed_per_tooth;
+        match c.model {
+            CuttingModel::Averaged => {
+                Cut { force: c.axial_depth * c.kt * (fz * self.static_coef - self.alpha0 * dx), chip: fz }
+            }
+            CuttingModel::TimeDomain => {
+                let (st, ex) = self.engagement;
+                let (ux, uy) = self.dir;
+                let kr = c.kr / c.kt.max(f64::MIN_POSITIVE);
+                let base = theta.rem_euclid(2.0 * PI);
+                let mut cut = Cut::default();
+                for j in 0..c.teeth {
+                    let phi = (base + j as f64 * pitch).rem_euclid(2.0 * PI);
+                    if phi < st || phi > ex {
+                        continue;
+                    }
+                    let (s, co) = phi.sin_cos();
+                    let h = fz * s - dx * (ux * s + uy * co);
+                    if h <= 0.0 {
+                        continue; // loss of contact
+                    }
+                    cut.chip = cut.chip.max(h);
+                    cut.force += c.axial_depth * c.kt * h * ((co + kr * s) * ux + (-s + kr * co) * uy);
+                }
+                cut
+            }
+        }
+    }
+
+    fn deriv(&self, t: f64, theta: f64, s: &State, omega: f64, inputs: &PlantInputs) -> State {
+        let n = self.modes.len();
+        let x: f64 = s.q[..n].iter().sum();
+        let (u, _) = self.u_sat(inputs.u);
+        let fa = self.actuator_force(&s.z, u);
+        let f = self.cutting(theta, x, omega, inputs).force + fa + self.disturbance(t);
+        let mut d = State::default();
+        for (i, m) in self.modes.iter().enumerate() {
+            let k = if i == 0 { self.first_stiffness(t) } else { m.stiffness };
+            d.q[i] = s.qd[i];
+            d.qd[i] = (f - m.damping() * s.qd[i] - k * s.q[i]) / m.mass;
+        }
+        let a = &self.p.actuator;
+        d.z[0] = a.a[0][0] * s.z[0] + a.a[0][1] * s.z[1] + a.b[0] * u;
+        d.z[1] = a.a[1][0] * s.z[0] + a.a[1][1] * s.z[1] + a.b[1] * u;
+        d
+    }
+
+    fn refresh_outputs(&mut self, inputs: &PlantInputs, delay: f64) {
+        let t = self.time();
+        let omega = inputs.spindle_speed_rpm * 2.0 * PI / 60.0;
+        let x = self.tip();
+        let cut = self.cutting(self.theta, x, omega, inputs);
+        let (u, saturated) = self.u_sat(inputs.u);
+        self.out = PlantOutputs {
+            x,
+            v: self.tip_velocity(),
+            cutting_force: cut.force,
+            actuator_force: self.actuator_force(&self.state.z, u),
+            disturbance_force: self.disturbance(t),
+            chip_thickness: cut.chip,
+            saturated,
+            tool_angle: self.theta.rem_euclid(2.0 * PI),
+            delay,
+        };
+    }
+}
+
+fn check_inputs(i: &PlantInputs) -> Result<(), PlantError> {
+    if !i.u.is_finite() {
+        return Err(PlantError::Input(format!("u = {} is not finite", i.u)));
+    }
+    if !(i.spindle_speed_rpm.is_finite() && i.spindle_speed_rpm >= 0.0) {
+        return Err(PlantError::Input(format!("spindle_speed = {} rpm must be finite and >= 0", i.spindle_speed_rpm)));
+    }
+    if !(i.feed_per_tooth.is_finite() && i.feed_per_tooth >= 0.0) {
+        return Err(PlantError::Input(format!("feed_per_tooth = {} m must be finite and >= 0", i.feed_per_tooth)));
+    }
+    Ok(())
+}
