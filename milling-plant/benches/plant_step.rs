@@ -1,5 +1,6 @@
 //! Plant stepping speed: 30 s of simulated time at the 10 µs internal step (3·10⁶ RK4 steps),
 //! time-domain cutting, all disturbances on, one mode and three modes.
+#![allow(missing_docs)]
 use criterion::{Criterion, criterion_group, criterion_main};
 use milling_plant::{Plant, PlantInputs, PlantParams};
 use std::hint::black_box;
