@@ -93,6 +93,40 @@ impl Observer for NoObserver {
     }
 }
 
+/// An observer that keeps every sample in memory (short runs, tests).
+#[derive(Clone, Debug, Default)]
+pub struct Recorder {
+    /// Column names (without `time`).
+    pub names: Vec<String>,
+    /// Sample times.
+    pub time: Vec<f64>,
+    /// One row of values per sample time.
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Recorder {
+    /// The column of the recorded variable `name` (e.g. `plant.x`).
+    pub fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.names.iter().position(|n| n == name)?;
+        Some(self.rows.iter().map(|r| r[i]).collect())
+    }
+}
+
+impl Observer for Recorder {
+    fn start(&mut self, names: &[String]) -> Result<(), SimError> {
+        self.names = names.to_vec();
+        Ok(())
+    }
+    fn sample(&mut self, t: f64, values: &[f64]) -> Result<(), SimError> {
+        self.time.push(t);
+        self.rows.push(values.to_vec());
+        Ok(())
+    }
+    fn finish(&mut self) -> Result<(), SimError> {
+        Ok(())
+    }
+}
+
 /// Progress display.
 #[derive(Clone, Debug, Default)]
 pub enum Progress {
@@ -454,7 +488,7 @@ impl Simulation {
         if !(step > 0.0 && step.is_finite()) {
             return Err(SetupError::Value(format!("the step must be positive and finite, not {step}")).into());
         }
-        if !(stop > start) {
+        if stop.partial_cmp(&start) != Some(std::cmp::Ordering::Greater) {
             return Err(SetupError::Value(format!("the stop time {stop} must be after the start time {start}")).into());
         }
         let span = stop - start;
@@ -470,7 +504,7 @@ impl Simulation {
             None => 1,
             Some(dt) => {
                 let k = (dt / step).round();
-                if !(dt > 0.0) || k < 1.0 || (k * step - dt).abs() > 1e-9 * dt {
+                if dt.is_nan() || dt <= 0.0 || k < 1.0 || (k * step - dt).abs() > 1e-9 * dt {
                     return Err(SetupError::Value(format!(
                         "the output interval {dt} must be a positive multiple of the step {step}"
                     ))
@@ -648,8 +682,10 @@ impl Simulation {
             .collect()
     }
 
-    /// Read a Real variable of a component now (e.g. a parameter value for reports).
-    pub fn get_real(&mut self, component: &str, variable: &str) -> Result<f64, SimError> {
+    /// Read a numeric variable (Real, Integer, Enumeration or Boolean) of a
+    /// component now, as f64 (e.g. parameter values for reports: the plant's
+    /// `cutting.teeth` is an Integer).
+    pub fn get_number(&mut self, component: &str, variable: &str) -> Result<f64, SimError> {
         let i = self.comps.iter().position(|c| c.name == component).ok_or_else(|| SetupError::UnknownComponent {
             name: component.to_string(),
             known: self.comps.iter().map(|c| c.name.as_str()).collect::<Vec<_>>().join(", "),
@@ -659,11 +695,29 @@ impl Simulation {
             .fmu
             .model_description()
             .variable(variable)
-            .filter(|v| v.scalar_type() == ScalarType::Real)
-            .ok_or_else(|| unknown_variable("get_real", &c.name, &c.fmu, variable))?;
-        let mut out = [0.0];
-        c.inst.get_real(&[v.value_reference], &mut out)?;
-        Ok(out[0])
+            .ok_or_else(|| unknown_variable("get_number", &c.name, &c.fmu, variable))?;
+        let vr = [v.value_reference];
+        match api_of(v) {
+            Some(Api::Real) => {
+                let mut out = [0.0];
+                c.inst.get_real(&vr, &mut out)?;
+                Ok(out[0])
+            }
+            Some(Api::Integer) => {
+                let mut out = [0];
+                c.inst.get_integer(&vr, &mut out)?;
+                Ok(f64::from(out[0]))
+            }
+            Some(Api::Boolean) => {
+                let mut out = [false];
+                c.inst.get_boolean(&vr, &mut out)?;
+                Ok(f64::from(u8::from(out[0])))
+            }
+            None => {
+                Err(SetupError::TypeMismatch(format!("{component}.{variable} is a String variable, not a number"))
+                    .into())
+            }
+        }
     }
 
     /// Log lines an instance has kept (for reports).
@@ -760,10 +814,10 @@ impl Simulation {
                 }
             }
             let done = n + 1;
-            if done % self.sample_every == 0 || done == self.n_steps {
+            if done.is_multiple_of(self.sample_every) || done == self.n_steps {
                 self.sample(self.start + done as f64 * self.step, &mut row, obs)?;
             }
-            if done % CHUNK == 0 || done == self.n_steps {
+            if done.is_multiple_of(CHUNK) || done == self.n_steps {
                 match &progress {
                     Progress::Off => {}
                     Progress::Shared(b) => {

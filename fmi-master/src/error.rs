@@ -219,3 +219,48 @@ pub enum SimError {
         source: std::io::Error,
     },
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn call_errors_name_the_instance_the_call_the_time_and_quote_the_log() {
+        let e = FmuError::Call {
+            instance: "plant".into(),
+            model: "MillingPlant".into(),
+            call: "fmi2DoStep",
+            status: "fmi2Error",
+            time: 0.125,
+            log: LogExcerpt(vec!["fmi2Error [logStatusError] state is not finite".into()]),
+        };
+        assert_eq!(
+            e.to_string(),
+            "FMU instance 'plant' (MillingPlant): fmi2DoStep returned fmi2Error at t = 0.125 s\n  \
+             the FMU's log:\n    fmi2Error [logStatusError] state is not finite"
+        );
+        let e = FmuError::Instantiate { instance: "c".into(), model: "M".into(), log: LogExcerpt(Vec::new()) };
+        assert_eq!(
+            e.to_string(),
+            "FMU M: fmi2Instantiate of instance 'c' failed (returned NULL)\n  (the FMU logged nothing)"
+        );
+    }
+
+    #[test]
+    fn setup_errors_say_what_and_where() {
+        let e = SetupError::UnknownVariable {
+            context: "connection plant.xx → controller.y".into(),
+            component: "plant".into(),
+            fmu: "MillingPlant.fmu".into(),
+            name: "xx".into(),
+            suggestion: " (did you mean x?)".into(),
+        };
+        assert_eq!(
+            e.to_string(),
+            "connection plant.xx → controller.y: component 'plant' (MillingPlant.fmu) has no variable 'xx' (did you mean x?)"
+        );
+        let e: SimError =
+            FmuError::MissingBinary { fmu: "A.fmu".into(), platform: "linux64", available: "win64".into() }.into();
+        assert_eq!(e.to_string(), "FMU A.fmu has no binary for linux64; it has: win64");
+    }
+}

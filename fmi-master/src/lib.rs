@@ -27,7 +27,7 @@ pub mod ssp;
 pub mod system;
 pub mod unzip;
 
-pub use engine::{Observer, Progress, RunConfig, RunStats, Simulation};
+pub use engine::{NoObserver, Observer, Progress, Recorder, RunConfig, RunStats, Simulation};
 pub use error::{FmuError, SetupError, SimError};
 pub use ssp::write_ssp_archive;
 pub use system::SystemFile;

@@ -31,9 +31,12 @@ use rayon::prelude::*;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+/// One row of the seed's Table 5: label, RMS mean and std [µm], reduction mean and std [%].
+pub type SeedRow = (&'static str, f64, f64, Option<(f64, f64)>);
+
 /// The seed paper's Table 5 (Section 5.3): RMS tip displacement [µm] over ten
 /// noise realizations, mean ± std, and the improvement vs open loop [%].
-pub const SEED_TABLE5: [(&str, f64, f64, Option<(f64, f64)>); 4] = [
+pub const SEED_TABLE5: [SeedRow; 4] = [
     ("Open loop", 3.78, 0.21, None),
     ("PID", 3.66, 0.19, Some((3.2, 0.5))),
     ("FOPID", 2.71, 0.14, Some((28.3, 1.2))),
@@ -133,6 +136,9 @@ pub fn discover_roles(sys: &SystemFile) -> Result<Roles> {
     })
 }
 
+/// Reference frequencies of the plant [Hz]: tooth passing, first natural frequency, sinusoidal disturbance.
+type RefFreqs = (Option<f64>, Option<f64>, Option<f64>);
+
 /// Result of one run.
 #[derive(Clone, Debug)]
 pub struct RunResult {
@@ -179,7 +185,7 @@ impl Observer for JobObserver {
     fn sample(&mut self, t: f64, v: &[f64]) -> Result<(), SimError> {
         let i = self.count;
         self.count += 1;
-        if i % self.csv_every == 0 {
+        if i.is_multiple_of(self.csv_every) {
             self.csv.sample(t, v)?;
         }
         if i > 0 {
@@ -188,7 +194,7 @@ impl Observer for JobObserver {
             self.sumsq_u += v[1] * v[1];
             self.n += 1;
             self.max_abs = self.max_abs.max(x.abs());
-            if i % self.spec_every == 0 {
+            if i.is_multiple_of(self.spec_every) {
                 self.spec.push(x);
             }
             if let Some(e) = &mut self.env {
@@ -210,8 +216,8 @@ fn slug(s: &str) -> String {
 /// `Z·N/60` and first natural frequency `√(K/M)/2π`, read from the plant's
 /// parameters when it declares them (names tried in order), plus the
 /// sinusoidal disturbance if its amplitude is non-zero.
-fn reference_frequencies(sim: &mut Simulation, plant: &str) -> (Option<f64>, Option<f64>, Option<f64>) {
-    let mut get = |names: &[&str]| names.iter().find_map(|n| sim.get_real(plant, n).ok());
+fn reference_frequencies(sim: &mut Simulation, plant: &str) -> RefFreqs {
+    let mut get = |names: &[&str]| names.iter().find_map(|n| sim.get_number(plant, n).ok());
     let speed = get(&["spindle_speed", "cutting.spindle_speed", "N"]);
     let teeth = get(&["teeth", "cutting.teeth", "Z", "n_teeth"]);
     let mass = get(&["workpiece.mass", "Mw", "mass", "m"]);
@@ -241,7 +247,7 @@ fn run_one(
     seed: u32,
     keep_plot: bool,
     progress: Progress,
-) -> Result<(RunResult, Option<f64>, Option<f64>, Option<f64>)> {
+) -> Result<(RunResult, RefFreqs)> {
     let mut overrides = vec![
         Override { target: roles.structure.clone(), value: case.1.clone() },
         Override { target: roles.seed.clone(), value: seed.to_string() },
@@ -295,7 +301,7 @@ fn run_one(
         plot: None,
     };
     let plot = obs.env.take().map(|e| (e, spectrum));
-    Ok((RunResult { plot, ..result }, tooth, natural, dist))
+    Ok((RunResult { plot, ..result }, (tooth, natural, dist)))
 }
 
 /// What the main job produced.
@@ -340,7 +346,7 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
         None
     };
     let first_seed = cfg.seeds[0];
-    let results: Vec<Result<(RunResult, Option<f64>, Option<f64>, Option<f64>)>> = jobs
+    let results: Vec<Result<(RunResult, RefFreqs)>> = jobs
         .par_iter()
         .map(|&(c, s)| {
             let progress = match &bar {
@@ -355,7 +361,22 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
                 );
                 b.inc_length((span / h).round() as u64);
             }
-            run_one(sys, cfg, &roles, &cfg.cases[c], s, s == first_seed, progress)
+            let r = run_one(sys, cfg, &roles, &cfg.cases[c], s, s == first_seed, progress);
+            if let Ok((run, _)) = &r {
+                let line = format!(
+                    "{} seed {}: RMS {:.3} µm, {} steps in {:.1} s",
+                    run.case,
+                    run.seed,
+                    run.rms * 1e6,
+                    run.steps,
+                    run.wall.as_secs_f64()
+                );
+                match &bar {
+                    Some(b) => b.println(line),
+                    None => eprintln!("{line}"),
+                }
+            }
+            r
         })
         .collect();
     if let Some(b) = &bar {
@@ -364,7 +385,7 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
     let mut runs = Vec::new();
     let (mut tooth, mut natural, mut dist) = (None, None, None);
     for r in results {
-        let (run, t, n, d) = r?;
+        let (run, (t, n, d)) = r?;
         tooth = tooth.or(t);
         natural = natural.or(n);
         dist = dist.or(d);
@@ -506,6 +527,7 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
 }
 
 #[cfg(test)]
+#[allow(clippy::float_cmp)] // exact values are intended in these tests
 mod tests {
     use super::*;
 

@@ -77,7 +77,9 @@ fn items_text(items: &[(String, i32)]) -> String {
 pub fn parse_value(md: &ModelDescription, v: &ScalarVariable, text: &str, context: &str) -> Result<Value, SetupError> {
     let t = text.trim();
     let bad = |what: &str| {
-        SetupError::Value(format!("{context}: '{}' is a {} variable; '{t}' is not {what}", v.name, type_name(v)))
+        let ty = type_name(v);
+        let article = if ty.starts_with(['I', 'E']) { "an" } else { "a" };
+        SetupError::Value(format!("{context}: '{}' is {article} {ty} variable; '{t}' is not {what}", v.name))
     };
     Ok(match v.scalar_type() {
         ScalarType::Real => {

@@ -90,6 +90,7 @@ pub fn time_histories(path: &Path, title: &str, panels: &[Panel<'_, Envelope>], 
         let mut chart = ChartBuilder::on(area)
             .caption(&p.title, (FONT, 18))
             .margin(8)
+            .margin_right(30)
             .x_label_area_size(35)
             .y_label_area_size(70)
             .build_cartesian_2d(e.t0..e.t1, -ymax..ymax)?;
@@ -155,12 +156,14 @@ pub fn spectra(
         let mut chart = ChartBuilder::on(area)
             .caption(&p.title, (FONT, 18))
             .margin(8)
+            .margin_right(30)
             .x_label_area_size(35)
             .y_label_area_size(70)
             .build_cartesian_2d(0.0..f_max, 0.0..ymax)?;
         chart
             .configure_mesh()
             .x_desc("frequency [Hz]")
+            .x_label_formatter(&|f| format!("{f:.0}"))
             .y_desc(unit)
             .label_style((FONT, 14))
             .axis_desc_style((FONT, 15))

@@ -45,7 +45,7 @@ pub fn single_sided(x: &[f64], fs: f64) -> Spectrum {
     planner.plan_fft_forward(l).process(&mut buf);
     let half = l / 2;
     let mut amp: Vec<f64> = buf[..=half].iter().map(|c| c.norm() / l as f64).collect();
-    let last = if l % 2 == 0 { half } else { half + 1 };
+    let last = if l.is_multiple_of(2) { half } else { half + 1 };
     for a in amp.iter_mut().take(last).skip(1) {
         *a *= 2.0;
     }
@@ -54,6 +54,7 @@ pub fn single_sided(x: &[f64], fs: f64) -> Spectrum {
 }
 
 #[cfg(test)]
+#[allow(clippy::float_cmp)] // exact values are intended in these tests
 mod tests {
     use super::*;
 

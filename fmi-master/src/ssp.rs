@@ -932,6 +932,50 @@ mod tests {
         assert!(xml.contains("stepSize=\"1e-5\""), "{xml}");
     }
 
+    /// Writes `target/ssd-test/Full.ssd` (every construct the writer emits:
+    /// system and component bindings of all five types, typed connectors, a
+    /// linear transformation, the master annotation), which
+    /// `tests/python/test_ssd_schema.py` validates against the SSP 1.0 XSD.
+    #[test]
+    fn writes_a_full_description_for_schema_validation() {
+        let mut d = SystemDescription::from_xml(FOREIGN, "foreign.ssd", None).unwrap();
+        d.master = MasterSettings {
+            step_size: Some(1e-5),
+            order: Some(Order::GaussSeidel),
+            sequence: vec!["b".into(), "a".into()],
+        };
+        d.description = Some("all constructs".into());
+        d.components[1].connectors.push(Connector {
+            name: "mode".into(),
+            kind: ConnectorKind::Parameter,
+            ty: Some(ConnectorType::Enumeration("Mode".into())),
+        });
+        d.components[1].connectors.push(Connector {
+            name: "n".into(),
+            kind: ConnectorKind::Input,
+            ty: Some(ConnectorType::Integer),
+        });
+        d.components[1].connectors.push(Connector {
+            name: "b".into(),
+            kind: ConnectorKind::Output,
+            ty: Some(ConnectorType::Boolean),
+        });
+        d.components[1].connectors.push(Connector {
+            name: "s".into(),
+            kind: ConnectorKind::Parameter,
+            ty: Some(ConnectorType::String),
+        });
+        let xml = d.to_xml();
+        let target = std::env::var_os("CARGO_TARGET_DIR")
+            .map(std::path::PathBuf::from)
+            .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target"));
+        let dir = target.join("ssd-test");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("Full.ssd"), &xml).unwrap();
+        std::fs::write(dir.join("ClosedLoop.ssd"), crate::CLOSED_LOOP_SSD).unwrap();
+        assert_eq!(SystemDescription::from_xml(&xml, "Full.ssd", None).unwrap(), d);
+    }
+
     #[test]
     fn the_embedded_closed_loop_is_canonical_and_complete() {
         let d = SystemDescription::from_xml(crate::CLOSED_LOOP_SSD, "ClosedLoop.ssd", None).unwrap();

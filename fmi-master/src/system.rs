@@ -158,9 +158,13 @@ fn read_relative(base: &Path, src: &str) -> Result<String, SspError> {
     std::fs::read_to_string(&p).map_err(|e| SspError::Io(format!("cannot read {}: {e}", p.display())))
 }
 
-/// The default directory of the project's FMUs: `$CARGO_TARGET_DIR/fmu` if
-/// set, else `target/fmu` of this workspace (if it exists), else `./target/fmu`.
+/// The default directory of the project's FMUs: `$FMU_DIR` if set (the
+/// variable the Python tests use too), else `$CARGO_TARGET_DIR/fmu` if set,
+/// else `target/fmu` of this workspace (if it exists), else `./target/fmu`.
 pub fn default_fmu_dir() -> PathBuf {
+    if let Some(d) = std::env::var_os("FMU_DIR") {
+        return PathBuf::from(d);
+    }
     if let Some(t) = std::env::var_os("CARGO_TARGET_DIR") {
         return PathBuf::from(t).join("fmu");
     }

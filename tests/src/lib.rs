@@ -1,1 +1,114 @@
-//! End-to-end test helpers.
+//! End-to-end test helpers: where the packaged FMUs are, and short
+//! closed-loop runs of the shipped system through the `fmi-master` library.
+//!
+//! The FMUs are built by `cargo run --release -p packaging` (which
+//! `tests/run_all.sh` runs before `cargo test`) into `target/fmu/`
+//! (`$CARGO_TARGET_DIR/fmu` if that is set). Every helper fails with a
+//! message saying so when they are missing.
+
+use fmi_master::params::Override;
+use fmi_master::ssp::Order;
+use fmi_master::{Progress, Recorder, RunConfig, Simulation, SystemFile};
+use std::path::{Path, PathBuf};
+
+/// The workspace root.
+pub fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("tests/ sits in the workspace").to_path_buf()
+}
+
+/// `target/fmu` (or `$CARGO_TARGET_DIR/fmu`), where packaging writes the
+/// FMUs; `$FMU_DIR` overrides it.
+pub fn fmu_dir() -> PathBuf {
+    if let Some(d) = std::env::var_os("FMU_DIR") {
+        return PathBuf::from(d);
+    }
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| workspace_root().join("target"))
+        .join("fmu")
+}
+
+/// Path of a packaged file (`MillingPlant.fmu`, `ChatterController.fmu`,
+/// `ClosedLoop.ssp`); panics with instructions if it is missing.
+pub fn packaged(file: &str) -> PathBuf {
+    let p = fmu_dir().join(file);
+    assert!(
+        p.is_file(),
+        "{} is missing: build the FMUs first with `cargo run --release -p packaging` \
+         (tests/run_all.sh does this before `cargo test`)",
+        p.display()
+    );
+    p
+}
+
+/// The shipped closed-loop system `target/fmu/ClosedLoop.ssp`.
+pub fn closed_loop_ssp() -> SystemFile {
+    SystemFile::open(&packaged("ClosedLoop.ssp"), None).expect("opening ClosedLoop.ssp")
+}
+
+/// The embedded scenario (`fmi-master/scenarios/ClosedLoop.ssd`) with the FMUs of `target/fmu`.
+pub fn closed_loop_embedded() -> SystemFile {
+    packaged("MillingPlant.fmu");
+    packaged("ChatterController.fmu");
+    SystemFile::from_text(fmi_master::CLOSED_LOOP_SSD, "embedded ClosedLoop.ssd", &fmu_dir())
+        .expect("opening the embedded ClosedLoop.ssd")
+}
+
+/// `component.variable=value` overrides.
+pub fn sets(list: &[&str]) -> Vec<Override> {
+    list.iter().map(|s| s.parse().expect("valid --set syntax")).collect()
+}
+
+/// Options of a short closed-loop run.
+#[derive(Clone, Debug)]
+pub struct Short<'a> {
+    /// Stop time [s].
+    pub stop: f64,
+    /// `--set` overrides.
+    pub set: &'a [&'a str],
+    /// Recorded variables.
+    pub record: &'a [&'a str],
+    /// Stepping order (None: the system's, Gauss–Seidel controller → plant).
+    pub order: Option<Order>,
+}
+
+/// Run `sys` for a short time and keep every step.
+pub fn run_short(sys: &SystemFile, o: &Short<'_>) -> Result<Recorder, fmi_master::SimError> {
+    let cfg = RunConfig {
+        stop: Some(o.stop),
+        overrides: sets(o.set),
+        record: Some(o.record.iter().map(|s| s.to_string()).collect()),
+        order: o.order,
+        ..RunConfig::default()
+    };
+    let mut sim = Simulation::new(sys, &cfg)?;
+    let mut rec = Recorder::default();
+    sim.run(&mut rec, Progress::Off)?;
+    Ok(rec)
+}
+
+/// Root mean square of a signal.
+pub fn rms(x: &[f64]) -> f64 {
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// Copy an `.fmu` (zip) to `dst`, passing each entry through `f(name, data)`
+/// (`None` drops the entry).
+pub fn rewrite_zip(src: &Path, dst: &Path, f: impl Fn(&str, Vec<u8>) -> Option<Vec<u8>>) {
+    use std::io::{Read, Write};
+    let mut zin = zip::ZipArchive::new(std::fs::File::open(src).expect("open zip")).expect("read zip");
+    let mut zout = zip::ZipWriter::new(std::fs::File::create(dst).expect("create zip"));
+    for i in 0..zin.len() {
+        let mut e = zin.by_index(i).expect("zip entry");
+        let name = e.name().to_string();
+        let mode = e.unix_mode().unwrap_or(0o644);
+        let mut data = Vec::new();
+        e.read_to_end(&mut data).expect("read zip entry");
+        if let Some(data) = f(&name, data) {
+            let opts = zip::write::SimpleFileOptions::default().unix_permissions(mode);
+            zout.start_file(name.as_str(), opts).expect("write zip entry");
+            zout.write_all(&data).expect("write zip entry");
+        }
+    }
+    zout.finish().expect("finish zip");
+}

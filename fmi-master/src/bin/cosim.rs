@@ -21,7 +21,7 @@ use fmi_master::params::Override;
 use fmi_master::plot::Mark;
 use fmi_master::ssp::Order;
 use fmi_master::system::{SystemFile, default_fmu_dir};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -50,7 +50,7 @@ enum Cmd {
 
 #[derive(Args, Clone)]
 struct Common {
-    /// Directory with the project's FMUs, for component sources `resources/X.fmu`.
+    /// Directory with the project's FMUs, for component sources `resources/X.fmu` (default: $FMU_DIR, else target/fmu).
     #[arg(long)]
     fmu_dir: Option<PathBuf>,
     /// Load a shared library globally before any FMU (e.g. libpython for pythonfmu FMUs).
@@ -217,7 +217,7 @@ fn run(a: RunArgs) -> Result<()> {
     Ok(())
 }
 
-fn info(file: &PathBuf) -> Result<()> {
+fn info(file: &Path) -> Result<()> {
     let ext = file.extension().and_then(|e| e.to_str()).unwrap_or("");
     if ext.eq_ignore_ascii_case("fmu") {
         let md = fmi_master::import::read_model_description(file)?;

@@ -1,0 +1,151 @@
+//! CSV and PNG output of stability lobe diagrams.
+//!
+//! The PNG is drawn with plotters' bitmap backend; the CI machine has no system fonts, so a
+//! TrueType font shipped inside the crates.io crate `epaint_default_fonts` (Ubuntu Light) is
+//! registered with plotters before drawing (as in `fmi-master`).
+
+use crate::lobes::CriticalPoint;
+use anyhow::{Context, Result};
+use plotters::prelude::*;
+use std::fmt::Write as _;
+use std::path::Path;
+use std::sync::Once;
+
+const FONT: &str = "sans-serif";
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
+    });
+}
+
+/// One named diagram (critical depth vs speed).
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend name.
+    pub name: String,
+    /// Points on a common speed grid.
+    pub points: Vec<CriticalPoint>,
+}
+
+/// CSV text: `rpm,<name>_depth_mm,<name>_chatter_hz,...` (all series on the same speed grid;
+/// an infinite depth is written as `inf`).
+pub fn diagrams_csv(series: &[Series]) -> String {
+    let mut s = String::from("rpm");
+    for se in series {
+        let _ = write!(s, ",{0}_depth_mm,{0}_chatter_hz", se.name);
+    }
+    s.push('\n');
+    let n = series.first().map_or(0, |s| s.points.len());
+    for i in 0..n {
+        let _ = write!(s, "{:.4}", series[0].points[i].rpm);
+        for se in series {
+            let p = se.points[i];
+            let _ = write!(s, ",{:.6},{:.4}", p.depth * 1e3, p.chatter_hz);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Write [`diagrams_csv`] to a file.
+pub fn write_csv(path: &Path, series: &[Series]) -> Result<()> {
+    std::fs::write(path, diagrams_csv(series)).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Plot several diagrams on common axes (depth in mm, linear), PNG `width × height`.
+pub fn plot_png(path: &Path, title: &str, series: &[Series], width: u32, height: u32) -> Result<()> {
+    register_font();
+    let finite = || series.iter().flat_map(|s| s.points.iter()).filter(|p| p.depth.is_finite());
+    let x0 = finite().map(|p| p.rpm).fold(f64::INFINITY, f64::min);
+    let x1 = finite().map(|p| p.rpm).fold(f64::NEG_INFINITY, f64::max);
+    let ymax = finite().map(|p| p.depth * 1e3).fold(0.0, f64::max);
+    let ymin = finite().map(|p| p.depth * 1e3).fold(f64::INFINITY, f64::min);
+    anyhow::ensure!(x0.is_finite() && x1 > x0 && ymax > 0.0, "nothing finite to plot");
+    // curves spanning more than a factor 20 are drawn on a logarithmic depth axis (log10 values
+    // on a linear axis, labels converted back)
+    let log = ymax / ymin > 20.0;
+    let ty = |d_mm: f64| if log { d_mm.log10() } else { d_mm };
+    let (y0, y1) = if log { (ymin.log10() - 0.05, ymax.log10() + 0.05) } else { (0.0, ymax * 1.05) };
+    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, (FONT, 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc("spindle speed [rpm]")
+        .y_desc(if log { "critical axial depth [mm] (log scale)" } else { "critical axial depth [mm]" })
+        .y_label_formatter(&|v| {
+            let d = if log { 10f64.powf(*v) } else { *v };
+            if d >= 10.0 {
+                format!("{d:.0}")
+            } else if d >= 1.0 {
+                format!("{d:.1}")
+            } else {
+                format!("{d:.2}")
+            }
+        })
+        .label_style((FONT, 16))
+        .draw()?;
+    let colors = [BLACK, BLUE, RED, GREEN, MAGENTA, CYAN, RGBColor(255, 140, 0), RGBColor(128, 0, 128)];
+    for (i, s) in series.iter().enumerate() {
+        let c = colors[i % colors.len()];
+        let pts: Vec<(f64, f64)> =
+            s.points.iter().filter(|p| p.depth.is_finite()).map(|p| (p.rpm, ty(p.depth * 1e3))).collect();
+        chart
+            .draw_series(LineSeries::new(pts, c.stroke_width(2)))?
+            .label(s.name.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .label_font((FONT, 16))
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()?;
+    root.present().with_context(|| format!("writing {}", path.display()))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn series() -> Vec<Series> {
+        let pts = |s: f64| {
+            (0..50)
+                .map(|i| CriticalPoint {
+                    rpm: 1000.0 + 40.0 * i as f64,
+                    depth: s * (1e-3 + 1e-4 * (i as f64 * 0.3).sin().abs()),
+                    chatter_hz: 150.0,
+                })
+                .collect()
+        };
+        vec![Series { name: "off".into(), points: pts(1.0) }, Series { name: "pid".into(), points: pts(1.5) }]
+    }
+
+    #[test]
+    fn csv_has_header_and_rows() {
+        let csv = diagrams_csv(&series());
+        let mut lines = csv.lines();
+        assert_eq!(lines.next().unwrap(), "rpm,off_depth_mm,off_chatter_hz,pid_depth_mm,pid_chatter_hz");
+        assert_eq!(lines.count(), 50);
+    }
+
+    #[test]
+    fn png_is_written() {
+        let dir = std::env::temp_dir().join(format!("stability-png-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("l.png");
+        plot_png(&p, "test", &series(), 400, 300).unwrap();
+        let bytes = std::fs::read(&p).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
