@@ -20,7 +20,7 @@ use crate::fractional::{FractionalMethod, FractionalParams};
 use crate::params::{AdrcParams, ControllerParams, DEFAULT_PARAMS, Structure};
 use crate::pid::PidGains;
 use fmi2_export::model_description::{
-    Causality as C, ModelBuilder, ModelDescription, ScalarVariable as V, Variability as Va,
+    Causality as C, ModelBuilder, ModelDescription, ScalarVariable as V, Value, Variability as Va,
 };
 use fmi2_export::{Environment, Fmi2Model, ModelLog, Severity, StepError, Values};
 use serde::{Deserialize, Serialize};
@@ -180,169 +180,168 @@ impl ChatterController {
     }
 }
 
+/// The FMU's parameters (and the `structure` enumeration) holding `p`, as (variable name, value)
+/// pairs: what a master sets (`--set controller.NAME=VALUE`, SSP parameter bindings) to run the
+/// FMU with `p`. Generated from the same variable table as `modelDescription.xml`, so the names
+/// cannot drift from the FMU's.
+pub fn parameter_assignments(p: &ControllerParams) -> Vec<(String, Value)> {
+    describe(p)
+        .variables()
+        .iter()
+        .filter(|v| v.causality == C::Parameter)
+        .filter_map(|v| Some((v.name.clone(), v.start_value()?)))
+        .collect()
+}
+
+/// The variable table with the start values of `d`.
+fn describe(d: &ControllerParams) -> ModelDescription {
+    let d = *d;
+    let par = |name: &str, vr: u32, start: f64, desc: &str| {
+        V::real(name, vr, C::Parameter, Va::Fixed).start(start).describe(desc)
+    };
+    let out = |name: &str, vr: u32, unit: &str, desc: &str| {
+        V::real(name, vr, C::Output, Va::Discrete).unit_of(unit).describe(desc).depends_on(&[])
+    };
+    let fop = |b: ModelBuilder, grp: &str, base: u32, g: FopidGains, force: bool| {
+        let (kp_unit, what) = if force { ("N/m", "u in N") } else { ("1/s2", "u0 in m/s2") };
+        b.var(
+            par(&format!("{grp}.kp"), base, g.kp, &format!("proportional gain ({what})"))
+                .unit_of(kp_unit)
+                .bounds(-1e12, 1e12),
+        )
+        .var(
+            par(
+                &format!("{grp}.ki"),
+                base + 1,
+                g.ki,
+                &format!(
+                    "fractional integral gain ({what}; unit {})",
+                    if force { "N/(m s^lambda)" } else { "s^(lambda-2)" }
+                ),
+            )
+            .bounds(0.0, 1e12),
+        )
+        .var(
+            par(
+                &format!("{grp}.kd"),
+                base + 2,
+                g.kd,
+                &format!("fractional derivative gain ({what}; unit {})", if force { "N s^mu/m" } else { "s^(mu-2)" }),
+            )
+            .bounds(-1e12, 1e12),
+        )
+        .var(par(&format!("{grp}.lambda"), base + 3, g.lambda, "integral order lambda").bounds(0.0, 3.0))
+        .var(par(&format!("{grp}.mu"), base + 4, g.mu, "derivative order mu").bounds(0.0, 3.0))
+    };
+    let b = ModelBuilder::new("ChatterController", "ChatterController")
+        .description("Active chatter controllers for milling: off, PID, FOPID, ADRC-FOPID (seed 000)")
+        .author_version("chatter-fmu", env!("CARGO_PKG_VERSION"))
+        .unit("m", [0, 1, 0, 0, 0, 0, 0, 0])
+        .unit("m/s", [0, 1, -1, 0, 0, 0, 0, 0])
+        .unit("m/s2", [0, 1, -2, 0, 0, 0, 0, 0])
+        .unit("N", [1, 1, -2, 0, 0, 0, 0, 0])
+        .unit("s", [0, 0, 1, 0, 0, 0, 0, 0])
+        .unit("N/m", [1, 0, -2, 0, 0, 0, 0, 0])
+        .unit("N.s/m", [1, 0, -1, 0, 0, 0, 0, 0])
+        .unit("N/(m.s)", [1, 0, -3, 0, 0, 0, 0, 0])
+        .unit("1/s2", [0, 0, -2, 0, 0, 0, 0, 0])
+        .unit("rad/s", [0, 0, -1, 0, 0, 0, 0, 1])
+        .unit("1/kg", [-1, 0, 0, 0, 0, 0, 0, 0])
+        .enumeration(
+            "Structure",
+            "controller structure",
+            &[
+                ("off", "no control (u = 0)"),
+                ("pid", "classical PID with anti-windup"),
+                ("fopid", "fractional-order PID (Eq. 28)"),
+                ("adrc_fopid", "TD + linear ESO + FOPID, u = (u0 - z3)/b0"),
+            ],
+        )
+        .enumeration(
+            "FractionalMethod",
+            "realisation of the non-integer part of the fractional operators",
+            &[
+                ("grunwald_letnikov", "Grunwald-Letnikov, short memory"),
+                ("oustaloup", "Oustaloup recursive filter, Tustin with prewarping"),
+            ],
+        )
+        .default_experiment(0.0, 0.1, d.ts)
+        .var(
+            V::real("y", vr::Y, C::Input, Va::Continuous).start(0.0).unit_of("m").describe("measured tip displacement"),
+        )
+        .var(V::real("r", vr::R, C::Input, Va::Continuous).start(0.0).unit_of("m").describe("reference displacement"))
+        .var(out("u", vr::U, "N", "actuator force command, saturated at +-u_max"))
+        .var(out("e", vr::E, "m", "tracking error r - y of the last sample"))
+        .var(out("z1", vr::Z1, "m", "ESO displacement estimate"))
+        .var(out("z2", vr::Z2, "m/s", "ESO velocity estimate"))
+        .var(out("z3", vr::Z3, "m/s2", "ESO total-disturbance estimate (acceleration)"))
+        .var(
+            V::boolean("saturated", vr::SATURATED, C::Output, Va::Discrete)
+                .describe("the unsaturated command exceeded u_max at the last sample")
+                .depends_on(&[]),
+        )
+        .var(
+            V::enumeration("structure", vr::STRUCTURE, C::Parameter, Va::Fixed, "Structure")
+                .start(d.structure.index())
+                .describe("controller structure"),
+        )
+        .var(par("u_max", vr::U_MAX, d.u_max, "actuator command limit").unit_of("N").bounds(0.0, 1e9))
+        .var(par("Ts", vr::TS, d.ts, "sample period").unit_of("s").bounds(1e-9, 1.0))
+        .var(par("pid.kp", vr::PID_KP, d.pid.kp, "PID proportional gain").unit_of("N/m").bounds(-1e12, 1e12))
+        .var(par("pid.ki", vr::PID_KI, d.pid.ki, "PID integral gain").unit_of("N/(m.s)").bounds(0.0, 1e12))
+        .var(par("pid.kd", vr::PID_KD, d.pid.kd, "PID derivative gain").unit_of("N.s/m").bounds(-1e12, 1e12))
+        .var(
+            par("pid.tf", vr::PID_TF, d.pid.tf, "PID derivative filter time constant (0: none)")
+                .unit_of("s")
+                .bounds(0.0, 1.0),
+        );
+    let b = fop(b, "fopid", vr::FOPID_KP, d.fopid, true);
+    let b = fop(b, "adrc", vr::ADRC_KP, d.adrc.fopid, false)
+        .var(
+            par("adrc.omega_o", vr::ADRC_OMEGA_O, d.adrc.omega_o, "ESO bandwidth (error poles at -omega_o)")
+                .unit_of("rad/s")
+                .bounds(1e-3, 1e9),
+        )
+        .var(par("adrc.b0", vr::ADRC_B0, d.adrc.b0, "nominal input gain 1/Mw").unit_of("1/kg").bounds(1e-9, 1e9))
+        .var(par("adrc.td_r", vr::ADRC_TD_R, d.adrc.td_r, "TD speed factor r0").unit_of("m/s2").bounds(1e-12, 1e12))
+        .var(par("adrc.td_h", vr::ADRC_TD_H, d.adrc.td_h, "TD filter factor h0").unit_of("s").bounds(1e-9, 1.0))
+        .var(
+            V::enumeration("fractional.method", vr::FRAC_METHOD, C::Parameter, Va::Fixed, "FractionalMethod")
+                .start(match d.fractional.method {
+                    FractionalMethod::GrunwaldLetnikov => 1,
+                    FractionalMethod::Oustaloup => 2,
+                })
+                .describe("realisation of the fractional part"),
+        )
+        .var(
+            V::integer("fractional.memory_length", vr::FRAC_MEMORY, C::Parameter, Va::Fixed)
+                .start(d.fractional.memory_length as i32)
+                .bounds(1.0, 1e6)
+                .describe("Grunwald-Letnikov short-memory length L (samples)"),
+        )
+        .var(
+            par("fractional.omega_b", vr::FRAC_OMEGA_B, d.fractional.omega_b, "Oustaloup band, lower edge")
+                .unit_of("rad/s")
+                .bounds(1e-6, 1e9),
+        )
+        .var(
+            par("fractional.omega_h", vr::FRAC_OMEGA_H, d.fractional.omega_h, "Oustaloup band, upper edge")
+                .unit_of("rad/s")
+                .bounds(1e-6, 1e9),
+        )
+        .var(
+            V::integer("fractional.order", vr::FRAC_ORDER, C::Parameter, Va::Fixed)
+                .start(d.fractional.order as i32)
+                .bounds(1.0, 50.0)
+                .describe("Oustaloup order N (2N+1 sections)"),
+        );
+    fmi2_export::with_log_categories(b).build().expect("valid ChatterController table")
+}
+
 impl Fmi2Model for ChatterController {
     fn description() -> &'static ModelDescription {
         static MD: OnceLock<ModelDescription> = OnceLock::new();
-        MD.get_or_init(|| {
-            let d = DEFAULT_PARAMS;
-            let par = |name: &str, vr: u32, start: f64, desc: &str| {
-                V::real(name, vr, C::Parameter, Va::Fixed).start(start).describe(desc)
-            };
-            let out = |name: &str, vr: u32, unit: &str, desc: &str| {
-                V::real(name, vr, C::Output, Va::Discrete).unit_of(unit).describe(desc).depends_on(&[])
-            };
-            let fop = |b: ModelBuilder, grp: &str, base: u32, g: FopidGains, force: bool| {
-                let (kp_unit, what) = if force { ("N/m", "u in N") } else { ("1/s2", "u0 in m/s2") };
-                b.var(
-                    par(&format!("{grp}.kp"), base, g.kp, &format!("proportional gain ({what})"))
-                        .unit_of(kp_unit)
-                        .bounds(-1e12, 1e12),
-                )
-                .var(
-                    par(
-                        &format!("{grp}.ki"),
-                        base + 1,
-                        g.ki,
-                        &format!(
-                            "fractional integral gain ({what}; unit {})",
-                            if force { "N/(m s^lambda)" } else { "s^(lambda-2)" }
-                        ),
-                    )
-                    .bounds(0.0, 1e12),
-                )
-                .var(
-                    par(
-                        &format!("{grp}.kd"),
-                        base + 2,
-                        g.kd,
-                        &format!(
-                            "fractional derivative gain ({what}; unit {})",
-                            if force { "N s^mu/m" } else { "s^(mu-2)" }
-                        ),
-                    )
-                    .bounds(-1e12, 1e12),
-                )
-                .var(par(&format!("{grp}.lambda"), base + 3, g.lambda, "integral order lambda").bounds(0.0, 3.0))
-                .var(par(&format!("{grp}.mu"), base + 4, g.mu, "derivative order mu").bounds(0.0, 3.0))
-            };
-            let b = ModelBuilder::new("ChatterController", "ChatterController")
-                .description("Active chatter controllers for milling: off, PID, FOPID, ADRC-FOPID (seed 000)")
-                .author_version("chatter-fmu", env!("CARGO_PKG_VERSION"))
-                .unit("m", [0, 1, 0, 0, 0, 0, 0, 0])
-                .unit("m/s", [0, 1, -1, 0, 0, 0, 0, 0])
-                .unit("m/s2", [0, 1, -2, 0, 0, 0, 0, 0])
-                .unit("N", [1, 1, -2, 0, 0, 0, 0, 0])
-                .unit("s", [0, 0, 1, 0, 0, 0, 0, 0])
-                .unit("N/m", [1, 0, -2, 0, 0, 0, 0, 0])
-                .unit("N.s/m", [1, 0, -1, 0, 0, 0, 0, 0])
-                .unit("N/(m.s)", [1, 0, -3, 0, 0, 0, 0, 0])
-                .unit("1/s2", [0, 0, -2, 0, 0, 0, 0, 0])
-                .unit("rad/s", [0, 0, -1, 0, 0, 0, 0, 1])
-                .unit("1/kg", [-1, 0, 0, 0, 0, 0, 0, 0])
-                .enumeration(
-                    "Structure",
-                    "controller structure",
-                    &[
-                        ("off", "no control (u = 0)"),
-                        ("pid", "classical PID with anti-windup"),
-                        ("fopid", "fractional-order PID (Eq. 28)"),
-                        ("adrc_fopid", "TD + linear ESO + FOPID, u = (u0 - z3)/b0"),
-                    ],
-                )
-                .enumeration(
-                    "FractionalMethod",
-                    "realisation of the non-integer part of the fractional operators",
-                    &[
-                        ("grunwald_letnikov", "Grunwald-Letnikov, short memory"),
-                        ("oustaloup", "Oustaloup recursive filter, Tustin with prewarping"),
-                    ],
-                )
-                .default_experiment(0.0, 0.1, d.ts)
-                .var(
-                    V::real("y", vr::Y, C::Input, Va::Continuous)
-                        .start(0.0)
-                        .unit_of("m")
-                        .describe("measured tip displacement"),
-                )
-                .var(
-                    V::real("r", vr::R, C::Input, Va::Continuous)
-                        .start(0.0)
-                        .unit_of("m")
-                        .describe("reference displacement"),
-                )
-                .var(out("u", vr::U, "N", "actuator force command, saturated at +-u_max"))
-                .var(out("e", vr::E, "m", "tracking error r - y of the last sample"))
-                .var(out("z1", vr::Z1, "m", "ESO displacement estimate"))
-                .var(out("z2", vr::Z2, "m/s", "ESO velocity estimate"))
-                .var(out("z3", vr::Z3, "m/s2", "ESO total-disturbance estimate (acceleration)"))
-                .var(
-                    V::boolean("saturated", vr::SATURATED, C::Output, Va::Discrete)
-                        .describe("the unsaturated command exceeded u_max at the last sample")
-                        .depends_on(&[]),
-                )
-                .var(
-                    V::enumeration("structure", vr::STRUCTURE, C::Parameter, Va::Fixed, "Structure")
-                        .start(d.structure.index())
-                        .describe("controller structure"),
-                )
-                .var(par("u_max", vr::U_MAX, d.u_max, "actuator command limit").unit_of("N").bounds(0.0, 1e9))
-                .var(par("Ts", vr::TS, d.ts, "sample period").unit_of("s").bounds(1e-9, 1.0))
-                .var(par("pid.kp", vr::PID_KP, d.pid.kp, "PID proportional gain").unit_of("N/m").bounds(-1e12, 1e12))
-                .var(par("pid.ki", vr::PID_KI, d.pid.ki, "PID integral gain").unit_of("N/(m.s)").bounds(0.0, 1e12))
-                .var(par("pid.kd", vr::PID_KD, d.pid.kd, "PID derivative gain").unit_of("N.s/m").bounds(-1e12, 1e12))
-                .var(
-                    par("pid.tf", vr::PID_TF, d.pid.tf, "PID derivative filter time constant (0: none)")
-                        .unit_of("s")
-                        .bounds(0.0, 1.0),
-                );
-            let b = fop(b, "fopid", vr::FOPID_KP, d.fopid, true);
-            let b = fop(b, "adrc", vr::ADRC_KP, d.adrc.fopid, false)
-                .var(
-                    par("adrc.omega_o", vr::ADRC_OMEGA_O, d.adrc.omega_o, "ESO bandwidth (error poles at -omega_o)")
-                        .unit_of("rad/s")
-                        .bounds(1e-3, 1e9),
-                )
-                .var(
-                    par("adrc.b0", vr::ADRC_B0, d.adrc.b0, "nominal input gain 1/Mw").unit_of("1/kg").bounds(1e-9, 1e9),
-                )
-                .var(
-                    par("adrc.td_r", vr::ADRC_TD_R, d.adrc.td_r, "TD speed factor r0")
-                        .unit_of("m/s2")
-                        .bounds(1e-12, 1e12),
-                )
-                .var(par("adrc.td_h", vr::ADRC_TD_H, d.adrc.td_h, "TD filter factor h0").unit_of("s").bounds(1e-9, 1.0))
-                .var(
-                    V::enumeration("fractional.method", vr::FRAC_METHOD, C::Parameter, Va::Fixed, "FractionalMethod")
-                        .start(match d.fractional.method {
-                            FractionalMethod::GrunwaldLetnikov => 1,
-                            FractionalMethod::Oustaloup => 2,
-                        })
-                        .describe("realisation of the fractional part"),
-                )
-                .var(
-                    V::integer("fractional.memory_length", vr::FRAC_MEMORY, C::Parameter, Va::Fixed)
-                        .start(d.fractional.memory_length as i32)
-                        .bounds(1.0, 1e6)
-                        .describe("Grunwald-Letnikov short-memory length L (samples)"),
-                )
-                .var(
-                    par("fractional.omega_b", vr::FRAC_OMEGA_B, d.fractional.omega_b, "Oustaloup band, lower edge")
-                        .unit_of("rad/s")
-                        .bounds(1e-6, 1e9),
-                )
-                .var(
-                    par("fractional.omega_h", vr::FRAC_OMEGA_H, d.fractional.omega_h, "Oustaloup band, upper edge")
-                        .unit_of("rad/s")
-                        .bounds(1e-6, 1e9),
-                )
-                .var(
-                    V::integer("fractional.order", vr::FRAC_ORDER, C::Parameter, Va::Fixed)
-                        .start(d.fractional.order as i32)
-                        .bounds(1.0, 50.0)
-                        .describe("Oustaloup order N (2N+1 sections)"),
-                );
-            fmi2_export::with_log_categories(b).build().expect("valid ChatterController table")
-        })
+        MD.get_or_init(|| describe(&DEFAULT_PARAMS))
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {

@@ -120,9 +120,45 @@ pub const TABLE2_PARAMS: ControllerParams = ControllerParams {
     },
 };
 
+/// Gains tuned by PSO on our plant (`cargo run --release -p stability -- tune`, seed 000
+/// Section 4.4: maximise the minimum critical depth over 1000–3000 rpm, subject to the ±27 N
+/// saturation check of `stability::tuning`). Force units as in Table 2. PID: best of 10 runs,
+/// b_min 3.918 mm; FOPID: best of 10 runs, b_min 18.16 mm.
+pub const TUNED_PID: PidGains = PidGains { kp: 1.0e5, ki: 1.0e-3, kd: 1.0e3, tf: 0.0 };
+/// PSO-tuned standalone FOPID gains (see [`TUNED_PID`]).
+pub const TUNED_FOPID: FopidGains =
+    FopidGains { kp: 1.0e5, ki: 1.0e4, kd: 1.0e3, lambda: 0.873_490_392_164_647_1, mu: 1.278_802_491_355_317_5 };
+/// PSO-tuned ADRC input gain b0 \[1/kg\]. The seed fixes b0 = 1/Mw and ω_o = 3ω_1; with those no
+/// gains pass the saturation check on our plant, so ω_o and b0 were tuned as well (an extension).
+pub const TUNED_ADRC_B0: f64 = 1.0 / 3.0;
+/// PSO-tuned ADRC-FOPID force-equivalent gains (`adrc.k = b0·k`, as for [`TABLE2_ADRC_FOPID`]).
+pub const TUNED_ADRC_FORCE_GAINS: FopidGains =
+    FopidGains { kp: 1.0e5, ki: 1.0e4, kd: 1.0e3, lambda: 0.1, mu: 0.394_180_657_762_111_86 };
+/// The PSO-tuned parameters: the Table 2 preset's structure, period, limit, TD and fractional
+/// settings with the tuned gains of all three controllers (b_min 27.0 mm for ADRC-FOPID with
+/// ω_o = 8705.4 rad/s and b0 = 1/3 1/kg).
+pub const TUNED_PARAMS: ControllerParams = ControllerParams {
+    pid: TUNED_PID,
+    fopid: TUNED_FOPID,
+    adrc: AdrcParams {
+        fopid: FopidGains {
+            kp: TUNED_ADRC_FORCE_GAINS.kp * TUNED_ADRC_B0,
+            ki: TUNED_ADRC_FORCE_GAINS.ki * TUNED_ADRC_B0,
+            kd: TUNED_ADRC_FORCE_GAINS.kd * TUNED_ADRC_B0,
+            lambda: TUNED_ADRC_FORCE_GAINS.lambda,
+            mu: TUNED_ADRC_FORCE_GAINS.mu,
+        },
+        omega_o: 8_705.365_549_078_979,
+        b0: TUNED_ADRC_B0,
+        ..TABLE2_PARAMS.adrc
+    },
+    ..TABLE2_PARAMS
+};
+
 /// THE shipped defaults (FMU start values and `ControllerParams::default()`): change them here.
-/// Currently the Table 2 preset; the tuning issue (#6) replaces the gains with PSO-tuned ones.
-pub const DEFAULT_PARAMS: ControllerParams = TABLE2_PARAMS;
+/// The PSO-tuned gains ([`TUNED_PARAMS`]); the paper's values stay available as
+/// [`ControllerParams::paper_table2`].
+pub const DEFAULT_PARAMS: ControllerParams = TUNED_PARAMS;
 
 impl Default for ControllerParams {
     fn default() -> Self {
@@ -134,6 +170,11 @@ impl ControllerParams {
     /// The paper's Table 2 values as a named preset (units: see the module documentation).
     pub fn paper_table2() -> ControllerParams {
         TABLE2_PARAMS
+    }
+
+    /// The PSO-tuned gains (the shipped defaults).
+    pub fn tuned() -> ControllerParams {
+        TUNED_PARAMS
     }
 
     /// Check ranges; the message names the offending parameter.

@@ -8,7 +8,9 @@
 //!   `documentation/index.html` (generated from the same table) and
 //!   `resources/` (a README naming the FMU; our models read no resource files);
 //! * `ClosedLoop.ssp`: the closed-loop system (plant + controller) as a
-//!   standard SSP 1.0 archive with both FMUs under `resources/`.
+//!   standard SSP 1.0 archive with both FMUs under `resources/`;
+//! * `ClosedLoopTable2.ssp`: the same system with the paper's Table 2 controller
+//!   gains as SSP parameter bindings (the FMU defaults are the PSO-tuned gains).
 //!
 //! The cdylib's library name, the `modelIdentifier` and the binary's file name
 //! are one string, checked by this crate's tests.
@@ -178,5 +180,48 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     let refs: Vec<(&str, &Path)> = fmus.iter().map(|(n, p)| (n.as_str(), p.as_path())).collect();
     fmi_master::write_ssp_archive(&ssp, fmi_master::CLOSED_LOOP_SSD, &refs)?;
     written.push(ssp);
+    let ssp = dir.join("ClosedLoopTable2.ssp");
+    fmi_master::write_ssp_archive(&ssp, &table2_ssd()?, &refs)?;
+    written.push(ssp);
     Ok(written)
+}
+
+/// The closed loop with the paper's Table 2 controller gains bound as SSP parameters
+/// (`ClosedLoopTable2.ssp`): the shipped FMU defaults are the PSO-tuned gains, and this system
+/// reproduces the seed's own settings with the same FMUs, in any SSP-capable tool.
+pub fn table2_ssd() -> Result<String> {
+    use fmi_master::ssp::{ParamValue, Parameter, SystemDescription};
+    use model_description::Value;
+    let mut sys = SystemDescription::from_xml(fmi_master::CLOSED_LOOP_SSD, "ClosedLoop.ssd", None)?;
+    let md = chatter_control::fmu::ChatterController::description();
+    let mut params = Vec::new();
+    for (name, value) in chatter_control::fmu::parameter_assignments(&chatter_control::ControllerParams::paper_table2())
+    {
+        let var = md.variable(&name).with_context(|| format!("{name}: not a controller variable"))?;
+        let value = match (&var.kind, value) {
+            (VarKind::Enumeration(e), Value::Integer(i)) => {
+                let items = md.enumeration_items(&e.declared_type);
+                let item = items.iter().find(|(_, v)| *v == i).with_context(|| format!("{name} = {i}: no item"))?;
+                ParamValue::Enumeration(item.0.clone())
+            }
+            // No unit attribute: SSP units must be declared in a Units element; the FMU's are SI.
+            (_, Value::Real(x)) => ParamValue::Real(x, None),
+            (_, Value::Integer(i)) => ParamValue::Integer(i),
+            (_, Value::Boolean(b)) => ParamValue::Boolean(b),
+            (_, Value::String(s)) => ParamValue::String(s),
+        };
+        params.push(Parameter { name, value });
+    }
+    let ctrl = sys
+        .components
+        .iter_mut()
+        .find(|c| c.source.ends_with("ChatterController.fmu"))
+        .context("no ChatterController component in the closed-loop SSD")?;
+    ctrl.parameters = params;
+    sys.name = "ClosedLoopTable2".into();
+    sys.description = Some(format!(
+        "{} Controller gains: the paper's Table 2 preset (SI reading), not the PSO-tuned FMU defaults.",
+        sys.description.unwrap_or_default()
+    ));
+    Ok(sys.to_xml())
 }

@@ -6,7 +6,7 @@ Gauss-Seidel sequence), then runs the same call sequence as
 ``fmi-master/src/engine.rs``:
 
 1. per component, in document order: instantiate (loggingOn), setupExperiment(t0, stop),
-   apply the ``component.variable=value`` overrides;
+   apply the SSD's inline parameter bindings, then the ``component.variable=value`` overrides;
 2. enterInitializationMode for all, then exitInitializationMode for all;
 3. read every connected output, set every connected input (document order);
 4. for n = 0..N-1, t_n = t0 + n*h: for each component of the sequence, set its
@@ -31,6 +31,7 @@ from fmpy.fmi2 import FMU2Slave
 
 SSD = "{http://ssp-standard.org/SSP1/SystemStructureDescription}"
 SSC = "{http://ssp-standard.org/SSP1/SystemStructureCommon}"
+SSV = "{http://ssp-standard.org/SSP1/SystemStructureParameterValues}"
 MASTER = "{urn:chatter-fmu:master:1}"
 
 
@@ -84,10 +85,13 @@ class System:
             z.extractall(self.tmp)
         root = ET.parse(Path(self.tmp) / "SystemStructure.ssd").getroot()
         system = root.find(f"{SSD}System")
-        self.components = [
-            Component(c.get("name"), Path(self.tmp) / c.get("source"))
-            for c in system.find(f"{SSD}Elements").findall(f"{SSD}Component")
-        ]
+        self.components = []
+        for el in system.find(f"{SSD}Elements").findall(f"{SSD}Component"):
+            c = Component(el.get("name"), Path(self.tmp) / el.get("source"))
+            # inline parameter bindings (ssv:Parameter with one value element)
+            path = f"{SSD}ParameterBindings/{SSD}ParameterBinding/{SSD}ParameterValues/{SSV}ParameterSet/{SSV}Parameters/{SSV}Parameter"
+            c.bindings = [(p.get("name"), list(p)[0].get("value")) for p in el.findall(path)]
+            self.components.append(c)
         by_name = {c.name: c for c in self.components}
         for conn in system.find(f"{SSD}Connections").findall(f"{SSD}Connection"):
             src, dst = by_name[conn.get("startElement")], by_name[conn.get("endElement")]
@@ -110,6 +114,8 @@ class System:
         for c in self.components:
             c.fmu.instantiate(loggingOn=True)
             c.fmu.setupExperiment(startTime=0.0, stopTime=stop_time)
+            for var, value in c.bindings:
+                c.set_value(var, value)
             for target, value in overrides.items():
                 comp, var = target.split(".", 1)
                 if comp == c.name:
