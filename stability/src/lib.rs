@@ -30,7 +30,8 @@
 //! controller's frequency response, the same coefficients the FMU steps), as the exact closed
 //! loop `Φ_cl = Φ/(1 − Φ G_a H_c)` — not the seed's Eq. 32 "effective damping" approximation.
 //! [`validation`] checks the lobes against the time-domain cores (decay 1 % below the
-//! boundary, growth 1 % above).
+//! boundary, growth 1 % above); [`cosim`] does the same through the FMUs and the Rust master,
+//! and bisects the time-domain boundary (`stability validate`).
 //!
 //! ## Tuning
 //!
@@ -61,7 +62,9 @@
 //! | [`pso`] | particle swarm optimisation (Section 4.4), seeded, parallel over particles |
 //! | [`tuning`] | Table 3 search spaces, the saturation check, the cost of Eq. 31 |
 //! | [`validation`] | time-domain cross-check of the lobes with the plant and controller cores |
+//! | [`cosim`] | the same check through the plant and controller FMUs in the Rust FMI master |
 
+pub mod cosim;
 pub mod lobes;
 pub mod output;
 pub mod pso;
