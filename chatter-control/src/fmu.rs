@@ -114,6 +114,16 @@ acceleration; its gains are the same force gains times b0 = 1/30 kg^-1 (Kp 60 1/
 Kd 8), so the FOPID part of the ADRC command equals the standalone FOPID force. Fractional gains
 have non-integer unit exponents and carry no declared unit.
 
+## Default gains
+The start values are gains tuned by particle swarm optimisation on the MillingPlant FMU's
+default plant (`stability tune`, seed Section 4.4: maximise the minimum critical depth over
+1000-3000 rpm without exceeding 27 N under the 50 N RMS disturbance): PID Kp 1e5 N/m, Ki 1e-3,
+Kd 1e3 N s/m; FOPID Kp 1e5, Ki 1e4, Kd 1e3, lambda 0.8735, mu 1.2788; ADRC-FOPID force-equivalent
+Kp 1e5, Ki 1e4, Kd 1e3, lambda 0.1, mu 0.3942 with omega_o 8705.4 rad/s and b0 1/3 1/kg (the
+seed fixes omega_o and b0, but with them no gains pass the saturation check). Several gains sit
+on the bounds of the seed's Table 3 search space. The paper's Table 2 values are the named
+preset `ControllerParams::paper_table2()`; `ClosedLoopTable2.ssp` binds them as SSP parameters.
+
 ## Note on the observer bandwidth
 z3/f = wo^3/(s + wo)^3: at 143 Hz with wo = 2699.3 rad/s the disturbance estimate lags 55 deg
 and has 85 % of the amplitude. The paper's rule "error (w/wo)^3" (Eq. 26a) understates this.
