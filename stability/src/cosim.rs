@@ -4,9 +4,10 @@
 //! communication step = the controller's period `T`), released from a 1 µm tip displacement.
 //! Saturation is lifted on both sides (`actuator.f_max`, `u_max` = 1e9 N) because the lobes are
 //! those of the linear loop. [`cosim_growth_ratio`] compares the peak |x| over the last fifth of
-//! the run with the peak over the second fifth, like [`crate::validation::growth_ratio`] does on
-//! the cores: below 1 the cut is stable, above 1 it chatters. [`time_domain_boundary`] bisects
-//! the depth at which the ratio crosses 1.
+//! the run with the peak over the second fifth ([`GrowthWindows`], as
+//! [`crate::validation::growth_ratio`] does on the cores): below 1 the cut is stable, above 1 it
+//! chatters. [`time_domain_boundary`] bisects the depth at which the ratio crosses 1. The plant
+//! overrides are those of [`crate::validation::quiet_release`] written as FMU parameters.
 //!
 //! Timing: with the controller stepped first, the plant integrates `[t_k, t_k+1]` with the
 //! command computed from `y(t_k)`, one sample earlier than the `e^{−iωT}` communication delay
@@ -14,14 +15,12 @@
 //! chatter frequencies (≈ 140 Hz, `ωT` ≈ 0.5°) this moves the boundary by far less than the
 //! 3 % the check allows; the measured difference is what [`time_domain_boundary`] reports.
 
+use crate::validation::{GrowthWindows, RELEASE};
 use chatter_control::fmu::parameter_assignments;
 use chatter_control::{ControllerParams, Structure};
 use fmi_master::params::Override;
 use fmi_master::{Observer, Progress, RunConfig, SimError, Simulation, SystemFile};
 use model_description::Value;
-
-/// Initial tip displacement of every validation run \[m\].
-pub const RELEASE: f64 = 1e-6;
 
 /// The closed-loop system of the project: `ClosedLoop.ssp` in `fmu_dir` if it exists, else the
 /// embedded SSD with the FMUs of `fmu_dir`.
@@ -70,14 +69,10 @@ pub fn overrides(ctrl: Option<&ControllerParams>, rpm: f64, depth: f64) -> Vec<O
     sets.into_iter().map(|(target, value)| Override { target, value }).collect()
 }
 
-/// Peaks of |x| over the second and the last fifth of `n` samples.
+/// Feeds `plant.x` of every recorded sample to [`GrowthWindows`].
 struct Peaks {
-    n: u64,
-    k: u64,
     col: usize,
-    mid: f64,
-    late: f64,
-    max: f64,
+    windows: GrowthWindows,
 }
 
 impl Observer for Peaks {
@@ -86,16 +81,7 @@ impl Observer for Peaks {
         Ok(())
     }
     fn sample(&mut self, _t: f64, values: &[f64]) -> Result<(), SimError> {
-        let x = values[self.col].abs();
-        self.max = self.max.max(x);
-        let fifth = self.n / 5;
-        if (fifth..2 * fifth).contains(&self.k) {
-            self.mid = self.mid.max(x);
-        }
-        if self.k + fifth >= self.n {
-            self.late = self.late.max(x);
-        }
-        self.k += 1;
+        self.windows.push(values[self.col]);
         Ok(())
     }
     fn finish(&mut self) -> Result<(), SimError> {
@@ -123,13 +109,14 @@ pub fn cosim_growth_ratio(
         ..RunConfig::default()
     };
     let mut sim = Simulation::new(sys, &cfg)?;
-    let mut peaks = Peaks { n: sim.n_steps() + 1, k: 0, col: 0, mid: 0.0, late: 0.0, max: 0.0 };
+    let n = usize::try_from(sim.n_steps() + 1).unwrap_or(usize::MAX);
+    let mut peaks = Peaks { col: 0, windows: GrowthWindows::new(n) };
     match sim.run(&mut peaks, Progress::Off) {
         // The plant FMU stops with an error when |x| passes 1 m; a run that has grown a hundredfold
         // from the 1 µm release before failing is unstable, anything else is a real failure.
-        Err(SimError::Fmu(_)) if peaks.max > 100.0 * RELEASE => Ok(f64::INFINITY),
+        Err(SimError::Fmu(_)) if peaks.windows.max > 100.0 * RELEASE => Ok(f64::INFINITY),
         Err(e) => Err(e),
-        Ok(_) => Ok(if peaks.late.is_finite() { peaks.late / peaks.mid } else { f64::INFINITY }),
+        Ok(_) => Ok(peaks.windows.ratio()),
     }
 }
 

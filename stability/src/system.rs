@@ -162,13 +162,8 @@ pub struct DecayReport {
 /// is called stable when the peak |x| over the last 10 % of the run is below the peak over the
 /// first 10 % (a growing mode slower than the run length can escape this test).
 pub fn closed_loop_decay(plant: &PlantParams, ctrl: &ControllerParams, duration: f64) -> Result<DecayReport, String> {
-    let mut p = plant.clone();
+    let mut p = crate::validation::quiet_release(plant);
     p.cutting.enabled = false;
-    p.disturbance.noise = false;
-    p.disturbance.drift = false;
-    p.disturbance.sine_amplitude = 0.0;
-    p.workpiece.initial_displacement = 1e-6;
-    p.actuator.f_max = 1e9;
     let mut plant = milling_plant::Plant::new(&p).map_err(|e| e.to_string())?;
     let mut c = Controller::new(&ControllerParams { u_max: 1e9, ..*ctrl })?;
     let n = (duration / ctrl.ts).round() as usize;

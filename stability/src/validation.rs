@@ -5,13 +5,66 @@
 //! which is the communication delay `e^{−iωT}` and hold of
 //! [`chatter_control::Controller::frequency_response`]).
 //!
-//! Released from a 1 µm static tip displacement, the response settles onto the least-damped
-//! characteristic root; [`growth_ratio`] compares the peak |x| over the last fifth of the run
-//! with the peak over the second fifth: above 1 the cut chatters, below 1 it is stable.
+//! Released from a 1 µm static tip displacement ([`quiet_release`]), the response settles onto
+//! the least-damped characteristic root; [`growth_ratio`] compares the peak |x| over the last
+//! fifth of the run with the peak over the second fifth ([`GrowthWindows`]): above 1 the cut
+//! chatters, below 1 it is stable.
 
 use chatter_control::{Controller, ControllerParams, Structure};
 use milling_plant::params::CuttingModel;
 use milling_plant::{Plant, PlantInputs, PlantParams};
+
+/// Initial tip displacement of every time-domain stability check \[m\].
+pub const RELEASE: f64 = 1e-6;
+
+/// The plant of a linear, quiet release: noise, drift and the sine disturbance off, released
+/// from [`RELEASE`], actuator saturation lifted (1e9 N). Cutting is left as `plant` has it.
+pub fn quiet_release(plant: &PlantParams) -> PlantParams {
+    let mut p = plant.clone();
+    p.disturbance.noise = false;
+    p.disturbance.drift = false;
+    p.disturbance.sine_amplitude = 0.0;
+    p.workpiece.initial_displacement = RELEASE;
+    p.actuator.f_max = 1e9;
+    p
+}
+
+/// The growth ratio of `n` samples of |x|: peak over the last fifth divided by the peak over the
+/// second fifth (the first fifth is left to the start-up transient). Also keeps the overall peak.
+#[derive(Clone, Copy, Debug)]
+pub struct GrowthWindows {
+    n: usize,
+    k: usize,
+    mid: f64,
+    late: f64,
+    /// Largest |x| seen so far.
+    pub max: f64,
+}
+
+impl GrowthWindows {
+    /// Windows for a run of `n` samples.
+    pub fn new(n: usize) -> Self {
+        GrowthWindows { n, k: 0, mid: 0.0, late: 0.0, max: 0.0 }
+    }
+
+    /// The next sample.
+    pub fn push(&mut self, x: f64) {
+        let (x, fifth) = (x.abs(), self.n / 5);
+        self.max = self.max.max(x);
+        if (fifth..2 * fifth).contains(&self.k) {
+            self.mid = self.mid.max(x);
+        }
+        if self.k + fifth >= self.n {
+            self.late = self.late.max(x);
+        }
+        self.k += 1;
+    }
+
+    /// Late peak / mid peak (infinite if the late peak is not finite).
+    pub fn ratio(&self) -> f64 {
+        if self.late.is_finite() { self.late / self.mid } else { f64::INFINITY }
+    }
+}
 
 /// Peak |x| over the last fifth of a `duration`-second run divided by the peak over the second
 /// fifth, at `rpm` and axial depth `depth` \[m\] (see the module documentation).
@@ -22,15 +75,10 @@ pub fn growth_ratio(
     depth: f64,
     duration: f64,
 ) -> Result<f64, String> {
-    let mut p = plant.clone();
+    let mut p = quiet_release(plant);
     p.cutting.enabled = true;
     p.cutting.model = CuttingModel::Averaged;
     p.cutting.axial_depth = depth;
-    p.disturbance.noise = false;
-    p.disturbance.drift = false;
-    p.disturbance.sine_amplitude = 0.0;
-    p.workpiece.initial_displacement = 1e-6;
-    p.actuator.f_max = 1e9;
     let mut plant = Plant::new(&p).map_err(|e| e.to_string())?;
     let (mut ctrl, ts) = match ctrl {
         Some(c) if c.structure != Structure::Off => {
@@ -39,17 +87,11 @@ pub fn growth_ratio(
         _ => (None, 1e-5),
     };
     let n = (duration / ts).round() as usize;
-    let fifth = n / 5;
-    let (mut mid, mut late) = (0.0f64, 0.0f64);
+    let mut windows = GrowthWindows::new(n);
     let mut u = 0.0;
-    for k in 0..n {
+    for _ in 0..n {
         let x = plant.outputs().x;
-        if (fifth..2 * fifth).contains(&k) {
-            mid = mid.max(x.abs());
-        }
-        if k >= n - fifth {
-            late = late.max(x.abs());
-        }
+        windows.push(x);
         let inputs = PlantInputs { u, spindle_speed_rpm: rpm, feed_per_tooth: 0.0 };
         if plant.step(ts, &inputs).is_err() {
             return Ok(f64::INFINITY);
@@ -58,7 +100,7 @@ pub fn growth_ratio(
             u = c.sample(x, 0.0).u;
         }
     }
-    Ok(late / mid)
+    Ok(windows.ratio())
 }
 
 #[cfg(test)]
