@@ -23,13 +23,15 @@ use crate::oustaloup::Oustaloup;
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
-/// How the non-integer part of a fractional operator is realised.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum FractionalMethod {
-    /// Short-memory Grünwald–Letnikov (FIR of `memory_length + 1` taps).
-    GrunwaldLetnikov,
-    /// Oustaloup recursive approximation (Tustin with prewarping).
-    Oustaloup,
+model_kit::choice! {
+    /// How the non-integer part of a fractional operator is realised.
+    #[derive(Serialize, Deserialize)]
+    pub enum FractionalMethod ("FractionalMethod", "realisation of the non-integer part of the fractional operators") {
+        /// Short-memory Grünwald–Letnikov (FIR of `memory_length + 1` taps).
+        GrunwaldLetnikov = "grunwald_letnikov", "Grunwald-Letnikov, short memory";
+        /// Oustaloup recursive approximation (Tustin with prewarping).
+        Oustaloup = "oustaloup", "Oustaloup recursive filter, Tustin with prewarping";
+    }
 }
 
 /// Settings of the fractional operators (FMU group `fractional.*`).

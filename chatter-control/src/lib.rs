@@ -29,11 +29,9 @@
 //! | [`oustaloup`] | Oustaloup filter, Tustin with prewarping |
 //! | [`eso`] | linear ESO, exact ZOH model + current observer with poles `e^{−ωo T}` |
 //! | [`td`] | Han's tracking differentiator |
-//! | [`fmu`] | the `ChatterController` FMU variable table, timing and feedthrough |
 
 pub mod controller;
 pub mod eso;
-pub mod fmu;
 pub mod fopid;
 pub mod fractional;
 pub mod grunwald;

@@ -20,37 +20,18 @@ use crate::fractional::{FractionalMethod, FractionalParams};
 use crate::pid::PidGains;
 use serde::{Deserialize, Serialize};
 
-/// Controller structure (FMU enumeration `structure`: `off`, `pid`, `fopid`, `adrc_fopid`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Structure {
-    /// No control, `u = 0` (the ESO still runs as a diagnostic).
-    Off,
-    /// Classical PID on `e = r − y`.
-    Pid,
-    /// Standalone FOPID on `e = r − y`.
-    Fopid,
-    /// TD + ESO + FOPID, `u = (u0 − z3)/b0`.
-    AdrcFopid,
-}
-
-impl Structure {
-    /// The FMU enumeration item names, in order (values 1..=4).
-    pub const ITEMS: [&'static str; 4] = ["off", "pid", "fopid", "adrc_fopid"];
-
-    /// From the FMU enumeration value (1-based).
-    pub fn from_index(i: i32) -> Option<Structure> {
-        match i {
-            1 => Some(Structure::Off),
-            2 => Some(Structure::Pid),
-            3 => Some(Structure::Fopid),
-            4 => Some(Structure::AdrcFopid),
-            _ => None,
-        }
-    }
-
-    /// The FMU enumeration value (1-based).
-    pub fn index(self) -> i32 {
-        self as i32 + 1
+model_kit::choice! {
+    /// Controller structure (FMU enumeration `structure`).
+    #[derive(Serialize, Deserialize)]
+    pub enum Structure ("Structure", "controller structure") {
+        /// No control, `u = 0` (the ESO still runs as a diagnostic).
+        Off = "off", "no control (u = 0)";
+        /// Classical PID on `e = r − y`.
+        Pid = "pid", "classical PID with anti-windup";
+        /// Standalone FOPID on `e = r − y`.
+        Fopid = "fopid", "fractional-order PID (Eq. 28)";
+        /// TD + ESO + FOPID, `u = (u0 − z3)/b0`.
+        AdrcFopid = "adrc_fopid", "TD + linear ESO + FOPID, u = (u0 - z3)/b0";
     }
 }
 

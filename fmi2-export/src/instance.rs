@@ -234,6 +234,11 @@ impl<M: Fmi2Model> Instance<M> {
         }
     }
 
+    /// The model, once built (after initialization, or on a `get` during it).
+    pub fn model(&self) -> Option<&M> {
+        self.model.as_ref()
+    }
+
     /// Instance name.
     pub fn name(&self) -> &str {
         &self.env.instance_name

@@ -36,11 +36,14 @@
 pub mod ffi;
 pub mod instance;
 pub mod model;
+pub mod table;
 
 pub use fmi2_abi as abi;
 pub use instance::{LOG_CATEGORIES, approx_eq};
 pub use model::*;
 pub use model_description;
+pub use model_kit;
+pub use table::{Header, Scalar, Table, Variables};
 
 /// Add the log categories that the export layer emits to a model's description.
 pub fn with_log_categories(mut b: model_description::ModelBuilder) -> model_description::ModelBuilder {

@@ -147,6 +147,26 @@ impl Values {
 }
 
 impl Values {
+    /// The value of `vr` of the API type `ty` (`Enumeration` reads the Integer slot).
+    pub fn get(&self, ty: ScalarType, vr: ValueReference) -> Value {
+        match ty.api_type() {
+            ScalarType::Real => Value::Real(self.real(vr)),
+            ScalarType::Integer | ScalarType::Enumeration => Value::Integer(self.integer(vr)),
+            ScalarType::Boolean => Value::Boolean(self.boolean(vr)),
+            ScalarType::String => Value::String(self.string(vr).to_string()),
+        }
+    }
+
+    /// Store `x` at `vr` in the slot of its type.
+    pub fn set(&mut self, vr: ValueReference, x: &Value) {
+        match x {
+            Value::Real(r) => self.set_real(vr, *r),
+            Value::Integer(i) => self.set_integer(vr, *i),
+            Value::Boolean(b) => self.set_boolean(vr, *b),
+            Value::String(s) => self.set_string(vr, s),
+        }
+    }
+
     /// Does this store have one slot per variable of `md`?
     pub fn same_shape(&self, md: &ModelDescription) -> bool {
         let fresh = Values::from_description(md);

@@ -22,9 +22,7 @@
 //! | [`plant`] | [`Plant`]: equations, RK4 on a fixed grid |
 //! | [`history`] | angle-indexed displacement history for the regenerative delay |
 //! | [`noise`] | band-limited Gaussian noise on the fixed grid |
-//! | [`fmu`] | the `MillingPlant` FMU variable table |
 
-pub mod fmu;
 pub mod history;
 pub mod noise;
 pub mod params;

@@ -48,6 +48,14 @@ impl Mode {
         let wn = 2.0 * PI * freq_hz;
         Mode { mass: k / (wn * wn), stiffness: k, damping_ratio }
     }
+    /// Natural frequency [Hz].
+    pub fn frequency_hz(&self) -> f64 {
+        self.omega_n() / (2.0 * PI)
+    }
+    /// Peak receptance `1/(2kζ√(1−ζ²))` [m/N] (the inverse of [`Mode::from_peak`]).
+    pub fn peak_receptance(&self) -> f64 {
+        1.0 / (2.0 * self.damping_ratio * (1.0 - self.damping_ratio * self.damping_ratio).sqrt() * self.stiffness)
+    }
     /// Natural frequency [rad/s].
     pub fn omega_n(&self) -> f64 {
         (self.stiffness / self.mass).sqrt()
@@ -62,22 +70,26 @@ impl Mode {
     }
 }
 
-/// Milling direction.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum MillingMode {
-    /// Up-milling (conventional): the chip starts thin.
-    Up,
-    /// Down-milling (climb): the chip starts thick.
-    Down,
+model_kit::choice! {
+    /// Milling direction.
+    #[derive(Serialize, Deserialize)]
+    pub enum MillingMode ("MillingMode", "milling direction") {
+        /// Up-milling (conventional): the chip starts thin.
+        Up = "up", "up-milling (conventional)";
+        /// Down-milling (climb): the chip starts thick.
+        Down = "down", "down-milling (climb)";
+    }
 }
 
-/// Which cutting-force model the plant integrates.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum CuttingModel {
-    /// Mechanistic force summed over the teeth, engagement window, loss of contact.
-    TimeDomain,
-    /// Linear zero-order model: mean static force plus `−a_p K_t α₀ (w − w(t−τ))`.
-    Averaged,
+model_kit::choice! {
+    /// Which cutting-force model the plant integrates.
+    #[derive(Serialize, Deserialize)]
+    pub enum CuttingModel ("CuttingModel", "cutting-force model") {
+        /// Mechanistic force summed over the teeth, engagement window, loss of contact.
+        TimeDomain = "time_domain", "mechanistic force per tooth, engagement window, loss of contact";
+        /// Linear zero-order model: mean static force plus `−a_p K_t α₀ (w − w(t−τ))`.
+        Averaged = "averaged", "linear zero-order model with the Altintas-Budak directional factor";
+    }
 }
 
 /// Workpiece (cantilever tip) parameters.

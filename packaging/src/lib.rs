@@ -26,6 +26,8 @@ use std::process::Command;
 pub struct Product {
     /// Cargo package of the cdylib.
     pub package: &'static str,
+    /// Its folder in the workspace.
+    pub dir: &'static str,
     /// The model's description (its `modelIdentifier` is the cdylib's library name).
     pub description: fn() -> &'static ModelDescription,
     /// Long documentation (Markdown-ish text shown in `documentation/index.html`).
@@ -35,14 +37,16 @@ pub struct Product {
 /// The FMUs this project ships.
 pub const PRODUCTS: [Product; 2] = [
     Product {
-        package: "fmu-plant",
-        description: milling_plant::fmu::MillingPlant::description,
-        documentation: milling_plant::fmu::DOCUMENTATION,
+        package: "fmu-plant-cdylib",
+        dir: "fmu-plant/cdylib",
+        description: fmu_plant::MillingPlant::description,
+        documentation: fmu_plant::DOCUMENTATION,
     },
     Product {
-        package: "fmu-controller",
-        description: chatter_control::fmu::ChatterController::description,
-        documentation: chatter_control::fmu::DOCUMENTATION,
+        package: "fmu-controller-cdylib",
+        dir: "fmu-controller/cdylib",
+        description: fmu_controller::ChatterController::description,
+        documentation: fmu_controller::DOCUMENTATION,
     },
 ];
 
@@ -193,10 +197,9 @@ pub fn table2_ssd() -> Result<String> {
     use fmi_master::ssp::{ParamValue, Parameter, SystemDescription};
     use model_description::Value;
     let mut sys = SystemDescription::from_xml(fmi_master::CLOSED_LOOP_SSD, "ClosedLoop.ssd", None)?;
-    let md = chatter_control::fmu::ChatterController::description();
+    let md = fmu_controller::ChatterController::description();
     let mut params = Vec::new();
-    for (name, value) in chatter_control::fmu::parameter_assignments(&chatter_control::ControllerParams::paper_table2())
-    {
+    for (name, value) in fmu_controller::parameter_assignments(&chatter_control::ControllerParams::paper_table2()) {
         let var = md.variable(&name).with_context(|| format!("{name}: not a controller variable"))?;
         let value = match (&var.kind, value) {
             (VarKind::Enumeration(e), Value::Integer(i)) => {

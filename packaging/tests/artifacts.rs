@@ -22,7 +22,7 @@ fn cdylib_name_model_identifier_and_binary_name_are_one_string() {
     for p in &PRODUCTS {
         let md = (p.description)();
         let id = md.model_identifier().unwrap();
-        assert_eq!(lib_name_of(p.package), id, "{}: [lib] name must equal modelIdentifier", p.package);
+        assert_eq!(lib_name_of(p.dir), id, "{}: [lib] name must equal modelIdentifier", p.package);
         assert_eq!(md.model_name, id);
         let fmu = fmu_dir().join(format!("{id}.fmu"));
         let f = std::fs::File::open(&fmu)

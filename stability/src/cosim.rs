@@ -16,10 +16,10 @@
 //! 3 % the check allows; the measured difference is what [`time_domain_boundary`] reports.
 
 use crate::validation::{GrowthWindows, RELEASE};
-use chatter_control::fmu::parameter_assignments;
 use chatter_control::{ControllerParams, Structure};
 use fmi_master::params::Override;
 use fmi_master::{Observer, Progress, RunConfig, SimError, Simulation, SystemFile};
+use fmu_controller::parameter_assignments;
 use model_description::Value;
 
 /// The closed-loop system of the project: `ClosedLoop.ssp` in `fmu_dir` if it exists, else the

@@ -19,6 +19,7 @@ use chatter_control::{ControllerParams, Structure};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use milling_plant::PlantParams;
+use model_kit::Choice;
 use stability::lobes::{CriticalPoint, Extremes, speed_grid};
 use stability::output::{Series, plot_png, write_csv};
 use stability::pso::PsoConfig;
@@ -267,10 +268,7 @@ fn plant_by_name(name: &str) -> Result<PlantParams> {
 }
 
 fn structure_by_name(name: &str) -> Result<Structure> {
-    match Structure::ITEMS.iter().position(|s| *s == name) {
-        Some(i) => Ok(Structure::from_index(i as i32 + 1).expect("index in range")),
-        None => bail!("unknown controller {name:?} (one of {:?})", Structure::ITEMS),
-    }
+    model_kit::parse_choice(name).map_err(|e| anyhow::anyhow!("unknown controller: {e}"))
 }
 
 /// Controller parameters for a structure, Table 2 unless overridden.
@@ -358,11 +356,7 @@ fn lobes(a: &LobesArgs) -> Result<()> {
 }
 
 fn json_run(r: &TuningRun, structure: Structure, names: &[tuning::ParamSpec]) -> String {
-    let mut s = format!(
-        "{{\n  \"structure\": \"{}\",\n  \"seed\": {},\n  \"gains\": {{",
-        Structure::ITEMS[structure.index() as usize - 1],
-        r.seed
-    );
+    let mut s = format!("{{\n  \"structure\": \"{}\",\n  \"seed\": {},\n  \"gains\": {{", structure.name(), r.seed);
     for (i, (n, v)) in names.iter().zip(&r.gains).enumerate() {
         let _ = write!(s, "{}\"{}\": {:e}", if i == 0 { "" } else { ", " }, n.name, v);
     }

@@ -3,11 +3,17 @@
 
 #![allow(clippy::needless_range_loop)]
 
-use chatter_control::fmu::{ChatterController, vr};
 use chatter_control::{Controller, ControllerParams, FractionalMethod, Structure};
+use fmi2_export::model_kit::Choice;
 use fmi2_export::{Environment, Fmi2Model, ModelLog, Severity, Values};
+use fmu_controller::ChatterController;
 use num_complex::Complex64;
 use std::f64::consts::PI;
+
+/// Value reference of a variable, from the one table.
+fn vr(name: &str) -> u32 {
+    ChatterController::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
+}
 
 struct NoLog;
 impl ModelLog for NoLog {
@@ -16,8 +22,8 @@ impl ModelLog for NoLog {
 
 fn values(structure: Structure, method: FractionalMethod) -> Values {
     let mut v = Values::from_description(ChatterController::description());
-    v.set_integer(vr::STRUCTURE, structure.index());
-    v.set_integer(vr::FRAC_METHOD, if method == FractionalMethod::Oustaloup { 2 } else { 1 });
+    v.set_integer(vr("structure"), structure.index());
+    v.set_integer(vr("fractional.method"), if method == FractionalMethod::Oustaloup { 2 } else { 1 });
     v
 }
 
@@ -109,8 +115,8 @@ fn variable_table_follows_the_contract() {
     // start values come from the one default block
     let d = ControllerParams::default();
     let v = Values::from_description(md);
-    assert!((v.real(vr::FOPID_KP) - d.fopid.kp).abs() < 1e-12);
-    assert_eq!(v.integer(vr::FRAC_MEMORY) as usize, d.fractional.memory_length);
+    assert!((v.real(vr("fopid.kp")) - d.fopid.kp).abs() < 1e-12);
+    assert_eq!(v.integer(vr("fractional.memory_length")) as usize, d.fractional.memory_length);
 }
 
 /// Sine input through `do_step(h = Ts)` at 5 frequencies in 100..200 Hz: the response from
@@ -133,12 +139,12 @@ fn frequency_response_through_the_fmi_calls() {
                 for k in 0..n {
                     let t = k as f64 * p.ts;
                     let y = amp * (w * t).sin();
-                    v.set_real(vr::Y, y);
+                    v.set_real(vr("y"), y);
                     model.do_step(&mut v, t, p.ts, &mut NoLog).unwrap();
-                    assert!(!v.boolean(vr::SATURATED));
+                    assert!(!v.boolean(vr("saturated")));
                     if k >= n - keep {
                         ys.push(y);
-                        us.push(v.real(vr::U)); // value at t + Ts
+                        us.push(v.real(vr("u"))); // value at t + Ts
                     }
                 }
                 // First differences of both signals (same transfer function): a slowly decaying
@@ -171,25 +177,25 @@ fn long_steps_hold_the_input() {
     let h = 10.0 * ts;
     for j in 0..50 {
         let y = 1e-7 * (j as f64 * 0.7).sin();
-        v1.set_real(vr::Y, y);
-        v2.set_real(vr::Y, y);
+        v1.set_real(vr("y"), y);
+        v2.set_real(vr("y"), y);
         a.do_step(&mut v1, j as f64 * h, h, &mut NoLog).unwrap();
         for i in 0..10 {
             b.do_step(&mut v2, j as f64 * h + i as f64 * ts, ts, &mut NoLog).unwrap();
         }
-        assert!((v1.real(vr::U) - v2.real(vr::U)).abs() <= 1e-12 * v2.real(vr::U).abs().max(1e-9));
+        assert!((v1.real(vr("u")) - v2.real(vr("u"))).abs() <= 1e-12 * v2.real(vr("u")).abs().max(1e-9));
     }
     // 2.5 Ts steps: samples at 0, Ts, 2Ts in the first, 3Ts, 4Ts in the second
     let mut v = values(Structure::Pid, FractionalMethod::GrunwaldLetnikov);
     let mut m = ChatterController::initialize(&v, &Environment::default()).unwrap();
     let mut c = Controller::new(m.params()).unwrap();
-    v.set_real(vr::Y, 1e-6);
+    v.set_real(vr("y"), 1e-6);
     m.do_step(&mut v, 0.0, 2.5 * ts, &mut NoLog).unwrap();
     let mut u = 0.0;
     for _ in 0..3 {
         u = c.sample(1e-6, 0.0).u;
     }
-    assert!((v.real(vr::U) - u).abs() < 1e-12);
+    assert!((v.real(vr("u")) - u).abs() < 1e-12);
 }
 
 /// The whole state round-trips through serde (FMU state) and continues identically.
@@ -200,7 +206,7 @@ fn fmu_state_round_trip() {
         let mut a = ChatterController::initialize(&v, &Environment::default()).unwrap();
         let ts = a.params().ts;
         for k in 0..500 {
-            v.set_real(vr::Y, 1e-7 * (k as f64 * 0.01).sin());
+            v.set_real(vr("y"), 1e-7 * (k as f64 * 0.01).sin());
             a.do_step(&mut v, k as f64 * ts, ts, &mut NoLog).unwrap();
         }
         let bytes = postcard::to_allocvec(&a).unwrap();
@@ -208,11 +214,11 @@ fn fmu_state_round_trip() {
         let mut v2 = v.clone();
         for k in 500..1500 {
             let y = 1e-7 * (k as f64 * 0.01).sin();
-            v.set_real(vr::Y, y);
-            v2.set_real(vr::Y, y);
+            v.set_real(vr("y"), y);
+            v2.set_real(vr("y"), y);
             a.do_step(&mut v, k as f64 * ts, ts, &mut NoLog).unwrap();
             b.do_step(&mut v2, k as f64 * ts, ts, &mut NoLog).unwrap();
-            assert_eq!(v.real(vr::U).to_bits(), v2.real(vr::U).to_bits());
+            assert_eq!(v.real(vr("u")).to_bits(), v2.real(vr("u")).to_bits());
         }
     }
 }
@@ -220,7 +226,7 @@ fn fmu_state_round_trip() {
 #[test]
 fn invalid_parameters_are_refused_with_a_message() {
     let mut v = values(Structure::Fopid, FractionalMethod::Oustaloup);
-    v.set_real(vr::FRAC_OMEGA_H, 1.0);
+    v.set_real(vr("fractional.omega_h"), 1.0);
     let err = ChatterController::initialize(&v, &Environment::default()).err().unwrap();
     assert!(err.contains("fractional.omega_h"), "{err}");
 }
@@ -229,10 +235,10 @@ fn invalid_parameters_are_refused_with_a_message() {
 fn off_gives_zero_command() {
     let mut v = values(Structure::Off, FractionalMethod::GrunwaldLetnikov);
     let mut m = ChatterController::initialize(&v, &Environment::default()).unwrap();
-    v.set_real(vr::Y, 1e-3);
+    v.set_real(vr("y"), 1e-3);
     m.do_step(&mut v, 0.0, 1e-3, &mut NoLog).unwrap();
-    assert!(v.real(vr::U).abs() < f64::MIN_POSITIVE && !v.boolean(vr::SATURATED));
-    assert!((v.real(vr::E) + 1e-3).abs() < 1e-15);
+    assert!(v.real(vr("u")).abs() < f64::MIN_POSITIVE && !v.boolean(vr("saturated")));
+    assert!((v.real(vr("e")) + 1e-3).abs() < 1e-15);
 }
 
 /// `parameter_assignments` names the FMU's own variables and, applied to the default start
@@ -240,8 +246,8 @@ fn off_gives_zero_command() {
 /// `ClosedLoopTable2.ssp`); the defaults are the tuned gains, not Table 2.
 #[test]
 fn parameter_assignments_reproduce_a_preset_through_the_variable_table() {
-    use chatter_control::fmu::parameter_assignments;
     use fmi2_export::model_description::Value;
+    use fmu_controller::parameter_assignments;
     let md = ChatterController::description();
     let table2 = ControllerParams::paper_table2();
     assert_ne!(ControllerParams::default(), table2, "the shipped defaults are the PSO-tuned gains");

@@ -1,0 +1,256 @@
+//! The checks every FMU adapter runs on its [`Table`](super::Table) (feature `checks`; call
+//! them from the adapter's tests). Each returns `Err` with a message naming the variable.
+//!
+//! * [`description_matches_table`]: the generated `modelDescription.xml`, parsed back, holds
+//!   exactly the table's variables with their attributes and start values.
+//! * [`parameter_round_trips`]: every parameter set to a distinct value through the instance
+//!   API (the code path of `fmi2Set*`) arrives in the core's parameter struct, and nothing else
+//!   changes.
+//! * [`assignments_round_trip`]: a parameter set → `(name, value)` pairs → store → parameter
+//!   set is the identity.
+//! * [`parameter_coverage`]: every leaf field of the serialized parameter struct is written by
+//!   some row, so a field cannot be added to the core without its row.
+
+use super::{Attrs, ChoiceType, Row, TableModel};
+use crate::instance::{Instance, LogLevel, LogSink};
+use crate::model::{Environment, Values};
+use model_description::{Causality, ModelDescription, ScalarType, Value, Variability};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// A value of a row that differs from `current` and stays inside the row's bounds.
+pub fn distinct_value(attrs: &Attrs, choice: Option<&ChoiceType>, current: &Value) -> Value {
+    let (lo, hi) = attrs.bounds.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+    match current {
+        Value::Real(d) => {
+            let mut c = if *d == 0.0 { 1e-3 * hi.min(1.0) } else { d * 1.001 };
+            if !(lo..=hi).contains(&c) || c.to_bits() == d.to_bits() {
+                c = if *d == 0.0 { 1e-3 * lo.max(-1.0) } else { d * 0.999 };
+            }
+            Value::Real(c)
+        }
+        Value::Integer(i) => match choice {
+            Some(t) => Value::Integer(*i % t.items.len() as i32 + 1),
+            None if f64::from(*i) < hi => Value::Integer(i + 1),
+            None => Value::Integer(i - 1),
+        },
+        Value::Boolean(b) => Value::Boolean(!b),
+        Value::String(s) => Value::String(format!("{s}x")),
+    }
+}
+
+fn same(a: &Value, b: &Value) -> bool {
+    match (a, b) {
+        (Value::Real(x), Value::Real(y)) => (x - y).abs() <= 1e-12 * x.abs().max(y.abs()),
+        (a, b) => a == b,
+    }
+}
+
+/// A row as the XML should show it: attributes, type, enumeration, causality, start.
+type Expected<'a> = (&'a Attrs, ScalarType, Option<&'a ChoiceType>, Causality, Option<Value>);
+
+/// The generated description, parsed back from XML, holds exactly the table's variables.
+pub fn description_matches_table<M: TableModel>() -> Result<(), String> {
+    let md = M::description();
+    let xml = md.to_xml().map_err(|e| e.to_string())?;
+    let parsed = ModelDescription::from_xml(&xml).map_err(|e| e.to_string())?;
+    let t = M::table();
+    let defaults = M::Params::default();
+    let inputs = M::Inputs::default();
+    let mut expected: Vec<Expected<'_>> = Vec::new();
+    for r in &t.vars.inputs {
+        expected.push((&r.attrs, r.ty, r.choice.as_ref(), Causality::Input, Some(r.get(&inputs))));
+    }
+    for r in &t.vars.outputs {
+        expected.push((&r.attrs, r.ty, r.choice.as_ref(), Causality::Output, None));
+    }
+    for r in &t.vars.parameters {
+        expected.push((&r.attrs, r.ty, r.choice.as_ref(), Causality::Parameter, Some(r.get(&defaults))));
+    }
+    if parsed.variables().len() != expected.len() {
+        return Err(format!("{} variables in the XML, {} rows in the table", parsed.variables().len(), expected.len()));
+    }
+    for ((a, ty, choice, c, start), v) in expected.into_iter().zip(parsed.variables()) {
+        let what = |field: &str| format!("{}: {field} differs between the table and the XML", a.name);
+        if v.name != a.name {
+            return Err(format!("XML has {} where the table has {}", v.name, a.name));
+        }
+        if v.value_reference != a.vr {
+            return Err(what("value reference"));
+        }
+        if v.scalar_type() != ty {
+            return Err(what("type"));
+        }
+        if v.causality != c {
+            return Err(what("causality"));
+        }
+        let variability = match (c, ty) {
+            (Causality::Parameter, _) => Variability::Fixed,
+            (_, ScalarType::Real) if !a.discrete => Variability::Continuous,
+            _ => Variability::Discrete,
+        };
+        if v.variability != variability {
+            return Err(what("variability"));
+        }
+        if v.unit().unwrap_or("") != a.unit {
+            return Err(what("unit"));
+        }
+        let (lo, hi) = v.range();
+        let bounds = match ty {
+            // integer bounds are stored as integers
+            ScalarType::Integer | ScalarType::Enumeration => a.bounds.map(|(l, h)| (l as i32 as f64, h as i32 as f64)),
+            _ => a.bounds,
+        };
+        if (lo, hi) != (bounds.map(|b| b.0), bounds.map(|b| b.1)) {
+            return Err(what("bounds"));
+        }
+        if v.description.as_deref().unwrap_or("") != a.description {
+            return Err(what("description"));
+        }
+        if v.start_value() != start {
+            return Err(format!("{}: XML start {:?}, table start {start:?}", a.name, v.start_value()));
+        }
+        if let Some(t) = choice {
+            let items = parsed.enumeration_items(t.name);
+            let names: Vec<&str> = items.iter().map(|(n, _)| n.as_str()).collect();
+            let expected: Vec<&str> = t.items.iter().map(|(n, _)| *n).collect();
+            if names != expected || items.iter().enumerate().any(|(i, (_, k))| *k != i as i32 + 1) {
+                return Err(format!("{}: enumeration items {names:?} in the XML, {expected:?} in the table", a.name));
+            }
+        }
+    }
+    // every output is listed in ModelStructure with an empty dependency list (no feedthrough)
+    let unknowns = parsed.model_structure.outputs.as_ref().map(|o| o.unknowns.as_slice()).unwrap_or(&[]);
+    let outputs: Vec<usize> = parsed
+        .variables()
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == Causality::Output)
+        .map(|(i, _)| i + 1)
+        .collect();
+    if unknowns.iter().map(|u| u.index).collect::<Vec<_>>() != outputs
+        || unknowns.iter().any(|u| u.dependencies.as_deref() != Some(""))
+    {
+        return Err(format!(
+            "ModelStructure/Outputs {unknowns:?} does not list the outputs {outputs:?} without dependencies"
+        ));
+    }
+    Ok(())
+}
+
+struct Collect(Vec<String>);
+impl LogSink for Collect {
+    fn emit(&mut self, _level: LogLevel, _category: &str, message: &str) {
+        self.0.push(message.to_string());
+    }
+}
+
+/// Build the model through the instance API with `sets` applied before initialization.
+fn initialized<M: TableModel>(sets: &[(&Row<M::Params>, Value)]) -> Result<M::Params, String> {
+    let mut inst = Instance::<M>::new(Environment::default(), false, Box::new(Collect(Vec::new())));
+    for (row, value) in sets {
+        inst.set("fmi2Set", row.ty.api_type(), &[row.attrs.vr], std::slice::from_ref(value))
+            .map_err(|e| format!("setting {} = {value:?}: {e:?}", row.attrs.name))?;
+    }
+    inst.setup_experiment(0.0, None).map_err(|e| format!("{e:?}"))?;
+    inst.enter_initialization().map_err(|e| format!("{e:?}"))?;
+    inst.exit_initialization().map_err(|e| format!("initialization: {e:?}"))?;
+    Ok(inst.model().ok_or("no model after initialization")?.parameters().clone())
+}
+
+/// Every parameter, set alone to a distinct value through the instance API, arrives in the
+/// core's parameter struct, and every other parameter keeps its start value. `valid` gives the
+/// value to use for rows where [`distinct_value`] would fail the model's own validation.
+pub fn parameter_round_trips<M: TableModel>(valid: &[(&str, Value)]) -> Result<(), String> {
+    let t = M::table();
+    let defaults = initialized::<M>(&[])?;
+    for row in &t.vars.parameters {
+        let start = row.get(&defaults);
+        let value = match valid.iter().find(|(n, _)| *n == row.attrs.name) {
+            Some((_, v)) => v.clone(),
+            None => distinct_value(&row.attrs, row.choice.as_ref(), &start),
+        };
+        if same(&value, &start) {
+            return Err(format!("{}: no distinct value found (start {start:?})", row.attrs.name));
+        }
+        let p = initialized::<M>(&[(row, value.clone())])?;
+        if !same(&row.get(&p), &value) {
+            return Err(format!("{}: set {value:?}, the core's parameters hold {:?}", row.attrs.name, row.get(&p)));
+        }
+        for other in t.vars.parameters.iter().filter(|o| o.attrs.name != row.attrs.name) {
+            if !same(&other.get(&p), &other.get(&defaults)) {
+                return Err(format!("setting {} also changed {}", row.attrs.name, other.attrs.name));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `p` → [`super::Table::assignments`] → a store → [`super::Table::read_parameters`] gives `p`
+/// back (compared row by row).
+pub fn assignments_round_trip<M: TableModel>(p: &M::Params) -> Result<(), String> {
+    let t = M::table();
+    let mut values = Values::from_description(M::description());
+    for (name, value) in t.assignments(p) {
+        let row = t.parameter(&name).ok_or_else(|| format!("{name}: assigned but not a parameter row"))?;
+        values.set(row.attrs.vr, &value);
+    }
+    let back = t.read_parameters(&values)?;
+    for row in &t.vars.parameters {
+        if !same(&row.get(&back), &row.get(p)) {
+            return Err(format!("{}: assigned {:?}, read back {:?}", row.attrs.name, row.get(p), row.get(&back)));
+        }
+    }
+    Ok(())
+}
+
+fn leaves(prefix: &str, v: &serde_json::Value, out: &mut BTreeMap<String, serde_json::Value>) {
+    match v {
+        serde_json::Value::Object(m) => {
+            for (k, x) in m {
+                leaves(&if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") }, x, out);
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                leaves(&format!("{prefix}[{i}]"), x, out);
+            }
+        }
+        x => {
+            out.insert(prefix.to_string(), x.clone());
+        }
+    }
+}
+
+/// Every leaf field of the serialized default parameter struct is changed by at least one
+/// parameter row, and every row changes at least one field: a field added to the core without
+/// a row, or a row that writes nothing, fails here with its path.
+pub fn parameter_coverage<M>() -> Result<(), String>
+where
+    M: TableModel,
+    M::Params: Serialize,
+{
+    let json = |p: &M::Params| serde_json::to_value(p).map_err(|e| e.to_string());
+    let t = M::table();
+    let defaults = M::Params::default();
+    let mut base = BTreeMap::new();
+    leaves("", &json(&defaults)?, &mut base);
+    let mut touched = std::collections::BTreeSet::new();
+    for row in &t.vars.parameters {
+        let mut p = defaults.clone();
+        let value = distinct_value(&row.attrs, row.choice.as_ref(), &row.get(&defaults));
+        row.set(&mut p, &value)?;
+        let mut now = BTreeMap::new();
+        leaves("", &json(&p)?, &mut now);
+        let changed: Vec<&String> = now.iter().filter(|(k, v)| base.get(*k) != Some(v)).map(|(k, _)| k).collect();
+        if changed.is_empty() {
+            return Err(format!("row {} changes no field of the parameter struct", row.attrs.name));
+        }
+        touched.extend(changed.into_iter().cloned());
+    }
+    let missing: Vec<&String> = base.keys().filter(|k| !touched.contains(*k)).collect();
+    if !missing.is_empty() {
+        return Err(format!("parameter fields without a row: {missing:?}"));
+    }
+    Ok(())
+}

@@ -1,0 +1,7 @@
+//! `ChatterController.fmu`'s shared library: the 34 `fmi2*` functions of
+//! [`fmu_controller::ChatterController`] through the shared export layer. Its library name
+//! `ChatterController` is the FMU's `modelIdentifier` and the file name under
+//! `binaries/<platform>/`.
+#![allow(non_snake_case)]
+
+fmi2_export::export_fmi2!(fmu_controller::ChatterController);

@@ -1,0 +1,12 @@
+//! # model-kit
+//!
+//! Building blocks shared by the physics and control cores of the workspace. Nothing here
+//! knows about FMI: the cores depend on this crate, the FMU adapters translate.
+//!
+//! | item | what |
+//! |---|---|
+//! | [`Choice`], [`choice!`] | a parameter that takes one of a fixed list of named items (an FMI enumeration, a CLI keyword) |
+
+pub mod choice;
+
+pub use choice::{Choice, parse_choice};
