@@ -183,8 +183,8 @@ fn crate_refs(text: &str) -> BTreeSet<String> {
             refs.insert(name);
         }
         // `use crate::{a, b::c}`
-        if after.starts_with('{') {
-            let group: String = after[1..].chars().take_while(|c| *c != '}').collect();
+        if let Some(group) = after.strip_prefix('{') {
+            let group: String = group.chars().take_while(|c| *c != '}').collect();
             for part in group.split(',') {
                 let name: String = part.trim().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
                 if !name.is_empty() {
