@@ -60,9 +60,14 @@ pub fn target_dir() -> PathBuf {
     std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target"))
 }
 
-/// Where the `.fmu` and `.ssp` files go.
+/// THE directory of the project's FMUs and systems: `$FMU_DIR` if set (the variable the Python
+/// tests use too), else `<target>/fmu`, where packaging writes them. Every tool and test of the
+/// workspace finds the FMUs through this function.
 pub fn fmu_dir() -> PathBuf {
-    target_dir().join("fmu")
+    match std::env::var_os("FMU_DIR") {
+        Some(d) => PathBuf::from(d),
+        None => target_dir().join("fmu"),
+    }
 }
 
 /// Build the product cdylibs in release mode.

@@ -16,17 +16,7 @@ pub fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("tests/ sits in the workspace").to_path_buf()
 }
 
-/// `target/fmu` (or `$CARGO_TARGET_DIR/fmu`), where packaging writes the
-/// FMUs; `$FMU_DIR` overrides it.
-pub fn fmu_dir() -> PathBuf {
-    if let Some(d) = std::env::var_os("FMU_DIR") {
-        return PathBuf::from(d);
-    }
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| workspace_root().join("target"))
-        .join("fmu")
-}
+pub use packaging::fmu_dir;
 
 /// Path of a packaged file (`MillingPlant.fmu`, `ChatterController.fmu`,
 /// `ClosedLoop.ssp`); panics with instructions if it is missing.

@@ -5,12 +5,12 @@
 
 use chatter_control::{ControllerParams, Structure};
 use milling_plant::PlantParams;
-use stability::cosim::{closed_loop_system, cosim_growth_ratio};
-use stability::system;
+use studies::fmu_validation::{closed_loop_system, cosim_growth_ratio};
+use studies::loop_frf;
 
 #[test]
 fn fmu_closed_loop_decays_3_percent_below_the_lobe_and_grows_3_percent_above() {
-    let dir = fmi_master::system::default_fmu_dir();
+    let dir = packaging::fmu_dir();
     assert!(
         dir.join("MillingPlant.fmu").is_file() && dir.join("ChatterController.fmu").is_file(),
         "no FMUs in {}: run `cargo run --release -p packaging` first",
@@ -18,7 +18,7 @@ fn fmu_closed_loop_decays_3_percent_below_the_lobe_and_grows_3_percent_above() {
     );
     let sys = closed_loop_system(&dir).unwrap();
     // The FMU's default plant is the plant the lobes are computed for.
-    let plant = system::seed_plant();
+    let plant = loop_frf::seed_plant();
     assert_eq!(plant, PlantParams::default());
     let with = |base: ControllerParams, s| ControllerParams { structure: s, ..base };
     let (t2, tuned) = (ControllerParams::paper_table2(), ControllerParams::default());
@@ -33,7 +33,7 @@ fn fmu_closed_loop_decays_3_percent_below_the_lobe_and_grows_3_percent_above() {
     ];
     let mut failures = Vec::new();
     for (ctrl, rpm) in cases {
-        let b = system::problem(&plant, ctrl.as_ref(), 1000.0).unwrap().critical_depth(rpm).depth;
+        let b = loop_frf::problem(&plant, ctrl.as_ref(), 1000.0).unwrap().critical_depth(rpm).depth;
         let below = cosim_growth_ratio(&sys, ctrl.as_ref(), rpm, 0.97 * b, 1.5).unwrap();
         let above = cosim_growth_ratio(&sys, ctrl.as_ref(), rpm, 1.03 * b, 1.5).unwrap();
         let name = ctrl.map_or(Structure::Off, |c| c.structure);

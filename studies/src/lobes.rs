@@ -6,7 +6,7 @@
 //! `F_dyn(t) = −a·K_t·α₀·(x(t) − x(t − τ))`, `τ = 60/(Z·N)` (contract of `milling_plant`,
 //! [`milling_plant::PlantParams::directional_coefficient`]), and the structure answers with the
 //! receptance `Φ(iω)` (open loop) or `Φ_cl = Φ/(1 − Φ·G_a·H_c)` (closed loop, see
-//! [`crate::system`]). A chatter root `s = iω` of the characteristic equation
+//! [`crate::loop_frf`]). A chatter root `s = iω` of the characteristic equation
 //!
 //! ```text
 //! 1 + a·K_t·α₀·f(ω) = 0,      f(ω) = (1 − e^{−iωτ})·Φ(iω)

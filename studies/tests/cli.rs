@@ -1,17 +1,17 @@
-//! Quick end-to-end runs of the `stability` binary (seconds).
+//! Quick end-to-end runs of the `chatter` binary (seconds).
 
 use std::path::PathBuf;
 use std::process::Command;
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("stability-cli-{name}-{}", std::process::id()));
+    let d = std::env::temp_dir().join(format!("chatter-cli-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d
 }
 
 fn run(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_stability")).args(args).output().expect("run stability");
-    assert!(out.status.success(), "stability {args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
+    let out = Command::new(env!("CARGO_BIN_EXE_chatter")).args(args).output().expect("run chatter");
+    assert!(out.status.success(), "chatter {args:?} failed: {}", String::from_utf8_lossy(&out.stderr));
     String::from_utf8(out.stdout).unwrap()
 }
 

@@ -1,8 +1,9 @@
-//! # stability
+//! # studies
 //!
-//! Zero-order (Altintas–Budak) stability lobes of the milling plant with and without a chatter
-//! controller, and PSO tuning of the controllers under actuator saturation (seed 000, Sections
-//! 4.4, 5.5, 5.7, Appendix A; issue 6).
+//! Every analysis and experiment of the seed papers, behind the `chatter` command: stability
+//! lobes (zero-order, open and closed loop), PSO tuning under actuator saturation, the seed's
+//! tables, time-domain validation on the cores and through the FMUs (seed 000, Sections 4.4,
+//! 5.5, 5.7, Appendix A).
 //!
 //! ## The core is generic
 //!
@@ -13,7 +14,7 @@
 //!
 //! ```
 //! use num_complex::Complex64;
-//! use stability::{Cutting, GridOptions, LobeProblem, lobes::speed_grid};
+//! use studies::{Cutting, GridOptions, LobeProblem, lobes::speed_grid};
 //! let (m, k, zeta) = (30.0, 2.4e7, 0.0088);
 //! let c = 2.0 * zeta * (m * k as f64).sqrt();
 //! let sdof = move |w: f64| Complex64::new(k - m * w * w, c * w).inv();
@@ -25,13 +26,13 @@
 //! assert!((ex.min.depth / analytic - 1.0).abs() < 1e-6);
 //! ```
 //!
-//! [`system`] builds that closure from the plant core (`milling_plant::PlantParams`: receptance
+//! [`loop_frf`] builds that closure from the plant core (`milling_plant::PlantParams`: receptance
 //! of the enabled modes, actuator) and the controller core (`chatter_control`: the sampled
 //! controller's frequency response, the same coefficients the FMU steps), as the exact closed
 //! loop `Φ_cl = Φ/(1 − Φ G_a H_c)` — not the seed's Eq. 32 "effective damping" approximation.
-//! [`validation`] checks the lobes against the time-domain cores (decay 1 % below the
-//! boundary, growth 1 % above); [`cosim`] does the same through the FMUs and the Rust master,
-//! and bisects the time-domain boundary (`stability validate`).
+//! [`validation`] checks the lobes against the time-domain cores ([`closed_loop::CoreLoop`],
+//! decay 1 % below the boundary, growth 1 % above); [`fmu_validation`] does the same through
+//! the FMUs and the Rust master, and bisects the time-domain boundary (`chatter validate`).
 //!
 //! ## Tuning
 //!
@@ -40,13 +41,13 @@
 //! over Table 3's bounds (gains on log10); `I_sat` is a precisely defined time-domain check
 //! ([`tuning::SaturationCheck`]).
 //!
-//! ## The `stability` binary
+//! ## The `chatter` binary
 //!
 //! ```text
-//! stability lobes  --controllers off,pid,fopid,adrc_fopid [--pid kp,ki,kd] [--fopid ..] [--adrc ..]
-//! stability tune   --structures pid,fopid,adrc_fopid --runs 10
-//! stability tables          # Table 6 and the uncontrolled Table 8 row beside the seed's values
-//! stability check  --fopid kp,ki,kd,λ,μ --seeds 10   # decay + saturation check over noise seeds
+//! chatter lobes  --controllers off,pid,fopid,adrc_fopid [--pid kp,ki,kd] [--fopid ..] [--adrc ..]
+//! chatter tune   --structures pid,fopid,adrc_fopid --runs 10
+//! chatter tables          # Table 6 and the uncontrolled Table 8 row beside the seed's values
+//! chatter check  --fopid kp,ki,kd,λ,μ --seeds 10   # decay + saturation check over noise seeds
 //! ```
 //!
 //! `tune --margin 0.1` counts a command above 90 % of u_max as exceeding (the seed's check has
@@ -58,17 +59,19 @@
 //! |---|---|
 //! | [`lobes`] | the generic lobe solver: any FRF closure `Fn(f64) -> Complex64`, cutting constants, exact per-speed critical depth, b_min/b_max |
 //! | [`output`] | CSV and PNG of several diagrams on common axes |
-//! | [`system`] | plant (+ controller) as an FRF: `Φ_cl = Φ/(1 − Φ G_a H_c)`; the seed and Ozsoy benchmark plants; closed-loop decay check |
+//! | [`loop_frf`] | plant (+ controller) as an FRF: `Φ_cl = Φ/(1 − Φ G_a H_c)`; the seed and Ozsoy benchmark plants; closed-loop decay check |
+//! | [`closed_loop`] | the one closed loop on the cores (plant core + controller core, Gauss–Seidel or Jacobi, any speed) |
 //! | [`pso`] | particle swarm optimisation (Section 4.4), seeded, parallel over particles |
 //! | [`tuning`] | Table 3 search spaces, the saturation check, the cost of Eq. 31 |
 //! | [`validation`] | time-domain cross-check of the lobes with the plant and controller cores |
-//! | [`cosim`] | the same check through the plant and controller FMUs in the Rust FMI master |
+//! | [`fmu_validation`] | the same check through the plant and controller FMUs in the Rust FMI master |
 
-pub mod cosim;
+pub mod closed_loop;
+pub mod fmu_validation;
 pub mod lobes;
+pub mod loop_frf;
 pub mod output;
 pub mod pso;
-pub mod system;
 pub mod tuning;
 pub mod validation;
 

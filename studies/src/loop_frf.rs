@@ -12,6 +12,7 @@
 //! This is the exact linear closed-loop response, not the seed's Eq. 32 "effective controller
 //! damping" approximation.
 
+use crate::closed_loop::{CoreLoop, Coupling, quiet_release};
 use crate::lobes::{Cutting, GridOptions, LobeError, LobeProblem};
 use chatter_control::{Controller, ControllerParams, Structure};
 use milling_plant::PlantParams;
@@ -162,28 +163,25 @@ pub struct DecayReport {
 /// is called stable when the peak |x| over the last 10 % of the run is below the peak over the
 /// first 10 % (a growing mode slower than the run length can escape this test).
 pub fn closed_loop_decay(plant: &PlantParams, ctrl: &ControllerParams, duration: f64) -> Result<DecayReport, String> {
-    let mut p = crate::validation::quiet_release(plant);
+    let mut p = quiet_release(plant);
     p.cutting.enabled = false;
-    let mut plant = milling_plant::Plant::new(&p).map_err(|e| e.to_string())?;
-    let mut c = Controller::new(&ControllerParams { u_max: 1e9, ..*ctrl })?;
-    let n = (duration / ctrl.ts).round() as usize;
+    let mut lp =
+        CoreLoop::new(&p, Some(&ControllerParams { u_max: 1e9, ..*ctrl }), Coupling::GaussSeidel, 2000.0, 0.0)?;
+    let n = lp.samples_in(duration);
     let w = (n / 10).max(1);
     let (mut early, mut late) = (0.0f64, 0.0f64);
-    for k in 0..n {
-        let x = plant.outputs().x;
-        if k < w {
-            early = early.max(x.abs());
+    let run = lp.run(n, |s| {
+        if s.k < w {
+            early = early.max(s.x.abs());
         }
-        if k >= n - w {
-            late = late.max(x.abs());
+        if s.k >= n - w {
+            late = late.max(s.x.abs());
         }
-        let u = c.sample(x, 0.0).u;
-        let inputs = milling_plant::PlantInputs { u, spindle_speed_rpm: 2000.0, feed_per_tooth: 0.0 };
-        if plant.step(ctrl.ts, &inputs).is_err() {
-            return Ok(DecayReport { early_peak: early, late_peak: f64::INFINITY, stable: false });
-        }
-    }
-    Ok(DecayReport { early_peak: early, late_peak: late, stable: late < early })
+    });
+    Ok(match run {
+        Ok(()) => DecayReport { early_peak: early, late_peak: late, stable: late < early },
+        Err(_) => DecayReport { early_peak: early, late_peak: f64::INFINITY, stable: false },
+    })
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 //! the run with the peak over the second fifth ([`GrowthWindows`], as
 //! [`crate::validation::growth_ratio`] does on the cores): below 1 the cut is stable, above 1 it
 //! chatters. [`time_domain_boundary`] bisects the depth at which the ratio crosses 1. The plant
-//! overrides are those of [`crate::validation::quiet_release`] written as FMU parameters.
+//! overrides are those of [`crate::closed_loop::quiet_release`] written as FMU parameters.
 //!
 //! Timing: with the controller stepped first, the plant integrates `[t_k, t_k+1]` with the
 //! command computed from `y(t_k)`, one sample earlier than the `e^{−iωT}` communication delay
@@ -15,7 +15,8 @@
 //! chatter frequencies (≈ 140 Hz, `ωT` ≈ 0.5°) this moves the boundary by far less than the
 //! 3 % the check allows; the measured difference is what [`time_domain_boundary`] reports.
 
-use crate::validation::{GrowthWindows, RELEASE};
+use crate::closed_loop::RELEASE;
+use crate::validation::GrowthWindows;
 use chatter_control::{ControllerParams, Structure};
 use fmi_master::params::Override;
 use fmi_master::{Observer, Progress, RunConfig, SimError, Simulation, SystemFile};

@@ -15,7 +15,7 @@
 //! found" (this happens for ADRC-FOPID with the seed's fixed ω_o and b0, see the report).
 //!
 //! `b_crit` is the exact closed-loop critical depth of [`crate::lobes`] with
-//! `Φ_cl = Φ/(1 − Φ G_a H_c)` ([`crate::system`]).
+//! `Φ_cl = Φ/(1 − Φ G_a H_c)` ([`crate::loop_frf`]).
 //!
 //! # Saturation check `I_sat` ([`SaturationCheck`])
 //!
@@ -40,11 +40,12 @@
 //! acceleration units by `b0` exactly as `chatter_control::params` does (`adrc.k = b0·k`); ω_o and
 //! b0 stay at their preset values (the seed tunes only the five FOPID gains).
 
+use crate::closed_loop::{CoreLoop, Coupling};
 use crate::lobes::speed_grid;
+use crate::loop_frf;
 use crate::pso::{PsoConfig, PsoResult, minimize};
-use crate::system;
-use chatter_control::{Controller, ControllerParams, Structure};
-use milling_plant::{Plant, PlantInputs, PlantParams};
+use chatter_control::{ControllerParams, Structure};
+use milling_plant::PlantParams;
 
 /// Penalty weight α \[mm\]; larger than [`DEPTH_CAP_MM`], so every feasible point beats every
 /// infeasible one.
@@ -99,27 +100,24 @@ impl SaturationCheck {
         p.disturbance.drift = false;
         p.disturbance.sine_amplitude = 0.0;
         p.seed = self.seed;
-        let mut plant = Plant::new(&p).map_err(|e| e.to_string())?;
         // with a margin the controller's own limit is lowered: identical trajectory until the first
         // exceedance, which is all the check looks at
-        let mut c = Controller::new(&ControllerParams { u_max: ctrl.u_max * (1.0 - self.margin), ..*ctrl })?;
-        let n = (self.duration / ctrl.ts).round() as usize;
+        let c = ControllerParams { u_max: ctrl.u_max * (1.0 - self.margin), ..*ctrl };
+        let mut lp = CoreLoop::new(&p, Some(&c), Coupling::GaussSeidel, 2000.0, 0.0)?;
+        let n = lp.samples_in(self.duration);
         let mut rep = SaturationReport { exceeded: false, saturated_samples: 0, peak_u: 0.0, rms_x: 0.0 };
         let mut sx2 = 0.0;
-        for _ in 0..n {
-            let x = plant.outputs().x;
-            sx2 += x * x;
-            let out = c.sample(x, 0.0);
-            rep.peak_u = rep.peak_u.max(out.u.abs());
-            if out.saturated {
+        let run = lp.run(n, |s| {
+            sx2 += s.x * s.x;
+            rep.peak_u = rep.peak_u.max(s.out.u.abs());
+            if s.out.saturated {
                 rep.saturated_samples += 1;
             }
-            let inputs = PlantInputs { u: out.u, spindle_speed_rpm: 2000.0, feed_per_tooth: 0.0 };
-            if plant.step(ctrl.ts, &inputs).is_err() {
-                rep.exceeded = true;
-                rep.rms_x = f64::INFINITY;
-                return Ok(rep);
-            }
+        });
+        if run.is_err() {
+            rep.exceeded = true;
+            rep.rms_x = f64::INFINITY;
+            return Ok(rep);
         }
         rep.rms_x = (sx2 / n.max(1) as f64).sqrt();
         rep.exceeded = rep.saturated_samples > 0;
@@ -283,7 +281,7 @@ impl TuningProblem {
             return bad;
         }
         let rpm_min = self.speeds.iter().copied().fold(f64::INFINITY, f64::min);
-        let Ok(problem) = system::problem(&self.plant, Some(ctrl), rpm_min) else {
+        let Ok(problem) = loop_frf::problem(&self.plant, Some(ctrl), rpm_min) else {
             return bad;
         };
         let cp = problem.min_depth(&self.speeds);
@@ -349,7 +347,7 @@ mod tests {
     #[test]
     fn decode_apply_roundtrip() {
         for s in [Structure::Pid, Structure::Fopid, Structure::AdrcFopid] {
-            let t = TuningProblem::new(system::seed_plant(), s);
+            let t = TuningProblem::new(loop_frf::seed_plant(), s);
             let (lo, hi) = t.bounds();
             let mid: Vec<f64> = lo.iter().zip(&hi).map(|(a, b)| 0.5 * (a + b)).collect();
             let g = t.decode(&mid);
@@ -363,7 +361,7 @@ mod tests {
 
     #[test]
     fn table2_pid_does_not_saturate_and_huge_derivative_does() {
-        let plant = system::seed_plant();
+        let plant = loop_frf::seed_plant();
         let check = SaturationCheck { duration: 0.02, ..Default::default() };
         let c = ControllerParams { structure: Structure::Pid, ..ControllerParams::paper_table2() };
         let r = check.run(&plant, &c).unwrap();

@@ -6,14 +6,14 @@
 
 use chatter_control::{ControllerParams, Structure};
 use criterion::{Criterion, criterion_group, criterion_main};
-use stability::lobes::speed_grid;
-use stability::pso::PsoConfig;
-use stability::system;
-use stability::tuning::TuningProblem;
 use std::hint::black_box;
+use studies::lobes::speed_grid;
+use studies::loop_frf;
+use studies::pso::PsoConfig;
+use studies::tuning::TuningProblem;
 
 fn lobes(c: &mut Criterion) {
-    let plant = system::seed_plant();
+    let plant = loop_frf::seed_plant();
     let rpm = speed_grid(1000.0, 3000.0, 2001);
     let mut g = c.benchmark_group("lobe_diagram_2001_speeds");
     g.sample_size(10);
@@ -21,7 +21,7 @@ fn lobes(c: &mut Criterion) {
         let ctrl = ControllerParams { structure: s, ..ControllerParams::paper_table2() };
         g.bench_function(format!("{s:?}"), |b| {
             b.iter(|| {
-                let p = system::problem(&plant, Some(&ctrl), 1000.0).unwrap();
+                let p = loop_frf::problem(&plant, Some(&ctrl), 1000.0).unwrap();
                 let d = p.diagram(black_box(&rpm));
                 black_box(p.extremes(&d))
             })
@@ -31,7 +31,7 @@ fn lobes(c: &mut Criterion) {
 }
 
 fn pso(c: &mut Criterion) {
-    let prob = TuningProblem::new(system::seed_plant(), Structure::Pid);
+    let prob = TuningProblem::new(loop_frf::seed_plant(), Structure::Pid);
     let mut g = c.benchmark_group("pso_run");
     g.sample_size(10);
     g.bench_function("pid_40x5", |b| {

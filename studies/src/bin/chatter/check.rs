@@ -1,0 +1,57 @@
+//! `chatter check`: closed-loop decay and the saturation check over noise seeds.
+
+use crate::common::*;
+use anyhow::Result;
+use chatter_control::Structure;
+use clap::Args;
+use studies::loop_frf;
+use studies::tuning::{self};
+
+#[derive(Args)]
+pub struct CheckArgs {
+    /// Plant: `seed` or `ozsoy`.
+    #[arg(long, default_value = "seed")]
+    pub plant: String,
+    /// Controllers to check.
+    #[arg(long, value_delimiter = ',', default_value = "pid,fopid,adrc_fopid")]
+    pub controllers: Vec<String>,
+    #[command(flatten)]
+    pub gains: GainArgs,
+    /// Noise seeds of the saturation check: 1..=seeds.
+    #[arg(long, default_value_t = 10)]
+    pub seeds: u64,
+    /// Duration of the saturation check [s].
+    #[arg(long, default_value_t = 0.2)]
+    pub duration: f64,
+}
+
+pub fn check(a: &CheckArgs) -> Result<()> {
+    let plant = plant_by_name(&a.plant)?;
+    println!(
+        "| controller | decay (late/early peak) | saturation check passed (seeds 1..={}) | peak u over seeds (N) | max saturated samples |",
+        a.seeds
+    );
+    println!("|---|---|---|---|---|");
+    for name in &a.controllers {
+        let c = controller(structure_by_name(name)?, &a.gains)?;
+        if c.structure == Structure::Off {
+            continue;
+        }
+        let d = loop_frf::closed_loop_decay(&plant, &c, 0.5).map_err(anyhow::Error::msg)?;
+        let (mut ok, mut peak, mut worst) = (0, 0.0f64, 0usize);
+        for sd in 1..=a.seeds {
+            let ch = tuning::SaturationCheck { seed: sd, duration: a.duration, ..Default::default() };
+            let r = ch.run(&plant, &c).map_err(anyhow::Error::msg)?;
+            ok += usize::from(!r.exceeded);
+            peak = peak.max(r.peak_u);
+            worst = worst.max(r.saturated_samples);
+        }
+        println!(
+            "| {name} | {:.2e} ({}) | {ok}/{} | {peak:.2} | {worst} |",
+            d.late_peak / d.early_peak,
+            if d.stable { "stable" } else { "NOT stable" },
+            a.seeds
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,61 @@
+//! `chatter`: the studies of the seed papers (lobe diagrams, PSO tuning, tables, validation through the FMUs).
+//!
+//! ```text
+//! chatter lobes  [--plant seed|ozsoy] [--controllers off,pid,fopid,adrc_fopid] [--pid kp,ki,kd]
+//!                  [--fopid kp,ki,kd,λ,μ] [--adrc kp,ki,kd,λ,μ] [--rpm-min 1000] [--rpm-max 3000]
+//!                  [--points 2001] [--out DIR]
+//! chatter tune   [--plant seed|ozsoy] [--structures pid,fopid,adrc_fopid] [--runs 10] [--seed 1]
+//!                  [--particles 40] [--iterations 60] [--out DIR]
+//! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
+//! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
+//! ```
+//!
+//! Gains are force-equivalent SI values (`u` in N, `y` in m); `--adrc` takes the FOPID gains of
+//! the ADRC loop in the same force units (converted by `b0` as in `chatter_control::params`).
+//! Default gains: the seed's Table 2 preset (`--preset tuned`: the PSO-tuned FMU defaults).
+
+mod check;
+mod common;
+mod lobes;
+mod tables;
+mod tune;
+mod validate;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "chatter",
+    version,
+    about = "The studies of the seed papers: stability lobes, PSO tuning, tables, validation through the FMUs"
+)]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
+    Lobes(lobes::LobesArgs),
+    /// PSO tuning (N runs per structure); best gains as JSON and CSV, Table A1 statistics.
+    Tune(tune::TuneArgs),
+    /// Table 6 (seed plant, open and closed loop) and the Table 8 uncontrolled row (Ozsoy plant).
+    Tables(tables::TablesArgs),
+    /// Time-domain checks of controllers: closed-loop decay and the saturation check over several noise seeds.
+    Check(check::CheckArgs),
+    /// The lobes against the FMUs in the Rust master: time-domain boundary by bisection vs the lobe.
+    Validate(validate::ValidateArgs),
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    match &cli.cmd {
+        Cmd::Lobes(a) => lobes::lobes(a),
+        Cmd::Tune(a) => tune::tune(a),
+        Cmd::Tables(a) => tables::tables(a),
+        Cmd::Check(a) => check::check(a),
+        Cmd::Validate(a) => validate::validate(a),
+    }
+}

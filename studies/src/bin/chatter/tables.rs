@@ -1,0 +1,104 @@
+//! `chatter tables`: Table 6 and the uncontrolled Table 8 row.
+
+use crate::common::*;
+use anyhow::Result;
+use chatter_control::{ControllerParams, Structure};
+use clap::Args;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use studies::lobes::speed_grid;
+use studies::loop_frf;
+use studies::output::{Series, plot_png, write_csv};
+
+#[derive(Args)]
+pub struct TablesArgs {
+    #[command(flatten)]
+    pub gains: GainArgs,
+    /// Number of speeds over each range.
+    #[arg(long, default_value_t = 2001)]
+    pub points: usize,
+    /// Output directory (CSV/PNG of the diagrams and tables.md).
+    #[arg(long, default_value = "stability-out")]
+    pub out: PathBuf,
+}
+
+pub fn tables(a: &TablesArgs) -> Result<()> {
+    std::fs::create_dir_all(&a.out)?;
+    let mut md = String::new();
+    // Table 6: seed plant, 1000–3000 rpm
+    let plant = loop_frf::seed_plant();
+    let rpm = speed_grid(1000.0, 3000.0, a.points);
+    let seed6 = [("off", 1.00, 23.17), ("pid", 1.50, 27.50), ("fopid", 2.00, 30.83), ("adrc_fopid", 2.67, 37.67)];
+    let _ = writeln!(
+        md,
+        "Table 6 (seed plant: Tables 1 and 4, 1000–3000 rpm, {} speeds; gains: Table 2 unless given)\n\n| scenario | b_min ours (mm) | at rpm | b_min seed (mm) | b_max ours (mm) | at rpm | b_max seed (mm) | loop stable w/o cutting | saturation check: exceeded (samples), peak u |\n|---|---|---|---|---|---|---|---|---|",
+        a.points
+    );
+    let mut series = Vec::new();
+    for (name, bmin, bmax) in seed6 {
+        let c = controller(structure_by_name(name)?, &a.gains)?;
+        let (d, ex) = diagram(&plant, &c, &rpm)?;
+        let (stable, sat) = loop_checks(&plant, &c)?;
+        let _ = writeln!(
+            md,
+            "| {name} | {:.3} | {:.1} | {bmin:.2} | {:.3} | {:.1} | {bmax:.2} | {stable} | {sat} |",
+            ex.min.depth * 1e3,
+            ex.min.rpm,
+            ex.max.depth * 1e3,
+            ex.max.rpm
+        );
+        series.push(Series { name: name.to_string(), points: d });
+    }
+    write_csv(&a.out.join("table6_lobes.csv"), &series)?;
+    plot_png(&a.out.join("table6_lobes.png"), "Stability lobes, seed plant", &series, 1200, 800)?;
+    // analytic SDOF check of the open loop
+    let cut = loop_frf::cutting_of(&plant);
+    let m = plant.workpiece.first;
+    let analytic = 2.0 * m.stiffness * m.damping_ratio * (1.0 + m.damping_ratio) / (cut.kt * cut.alpha0);
+    let _ = writeln!(
+        md,
+        "\nOpen-loop analytic minimum 2kζ(1+ζ)/(K_t α₀) = {:.4} mm (α₀ = {:.5}).\n",
+        analytic * 1e3,
+        cut.alpha0
+    );
+    // Table 8 uncontrolled row: Ozsoy plant
+    let oz = loop_frf::ozsoy_plant();
+    let _ = writeln!(
+        md,
+        "Table 8, uncontrolled row (Ozsoy et al. plant: 142.1 Hz, ζ 0.88 %, k 2.43e7 N/m, Z = 4, half immersion)\n\n| speed range (rpm) | b_crit ours (mm) | at rpm | b_crit seed (mm) | b_crit [8] (mm) | Δ vs seed % | b_max ours (mm) | at rpm | b_max seed (mm) | b_max [8] (mm) | Δ vs seed % |\n|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    let off = ControllerParams { structure: Structure::Off, ..ControllerParams::paper_table2() };
+    let mut oz_series = Vec::new();
+    let mut notes = Vec::new();
+    for (lo, hi) in [(1000.0, 3000.0), (500.0, 3000.0)] {
+        let n = ((hi - lo) as usize).max(a.points - 1) + 1;
+        let r = speed_grid(lo, hi, n);
+        let (d, ex) = diagram(&oz, &off, &r)?;
+        let (b, bx) = (ex.min.depth * 1e3, ex.max.depth * 1e3);
+        let _ = writeln!(
+            md,
+            "| {lo:.0}–{hi:.0} | {b:.3} | {:.1} | 1.24 | 1.2 | {:+.2} | {bx:.2} | {:.1} | 43.94 | 45.1 | {:+.2} |",
+            ex.min.rpm,
+            100.0 * (b / 1.24 - 1.0),
+            ex.max.rpm,
+            100.0 * (bx / 43.94 - 1.0)
+        );
+        let grid_max = d.iter().map(|c| c.depth).fold(0.0, f64::max) * 1e3;
+        notes.push(format!(
+            "{lo:.0}–{hi:.0} rpm: largest depth on the {}-speed grid itself {grid_max:.3} mm (refined cusp {bx:.3} mm)",
+            r.len()
+        ));
+        if lo < 600.0 {
+            oz_series.push(Series { name: "uncontrolled".into(), points: d });
+        }
+    }
+    for n in notes {
+        let _ = writeln!(md, "\n{n}");
+    }
+    write_csv(&a.out.join("table8_ozsoy_lobes.csv"), &oz_series)?;
+    plot_png(&a.out.join("table8_ozsoy_lobes.png"), "Ozsoy benchmark plant, uncontrolled", &oz_series, 1200, 800)?;
+    std::fs::write(a.out.join("tables.md"), &md)?;
+    println!("{md}");
+    println!("wrote {}", a.out.join("tables.md").display());
+    Ok(())
+}
