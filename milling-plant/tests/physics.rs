@@ -1,4 +1,4 @@
-//! Physics checks of the plant against analytic results (issue 2's acceptance tests).
+//! Physics checks of the plant against analytic results (the plant's acceptance tests).
 
 use milling_plant::{CuttingModel, Plant, PlantInputs, PlantParams};
 use num_complex::Complex64;

@@ -1,4 +1,4 @@
-//! The lobes against the time domain **through the FMUs** (issue 6): the plant and controller
+//! The lobes against the time domain **through the FMUs**: the plant and controller
 //! FMUs of `target/fmu` (built by `cargo run --release -p packaging` before the tests) in the
 //! Rust master, 3 % below the computed boundary the cut decays, 3 % above it grows — open loop,
 //! the paper's Table 2 gains and the shipped (PSO-tuned) defaults.
