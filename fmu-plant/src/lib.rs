@@ -21,8 +21,31 @@ use std::sync::LazyLock;
 /// Long documentation of the FMU (packaged as `documentation/index.html`).
 pub const DOCUMENTATION: &str = include_str!("documentation.md");
 
-fn set_mode(m: &mut Mode, freq_hz: f64, damping_ratio: f64, peak: f64) {
-    *m = Mode::from_peak(freq_hz, damping_ratio, peak);
+/// The higher modes are FMU parameters as (frequency, damping ratio, peak receptance), the core
+/// keeps (mass, stiffness, damping ratio): each setter keeps the other two FMU quantities.
+fn higher<const I: usize>(p: &PlantParams) -> Mode {
+    p.workpiece.higher[I]
+}
+fn set_higher<const I: usize>(p: &mut PlantParams, freq_hz: f64, damping_ratio: f64, peak: f64) {
+    p.workpiece.higher[I] = Mode::from_peak(freq_hz, damping_ratio, peak);
+}
+fn mode_frequency<const I: usize>(p: &PlantParams) -> f64 {
+    higher::<I>(p).frequency_hz()
+}
+fn mode_damping<const I: usize>(p: &PlantParams) -> f64 {
+    higher::<I>(p).damping_ratio
+}
+fn mode_peak<const I: usize>(p: &PlantParams) -> f64 {
+    higher::<I>(p).peak_receptance()
+}
+fn set_mode_frequency<const I: usize>(p: &mut PlantParams, f: f64) {
+    set_higher::<I>(p, f, mode_damping::<I>(p), mode_peak::<I>(p));
+}
+fn set_mode_damping<const I: usize>(p: &mut PlantParams, z: f64) {
+    set_higher::<I>(p, mode_frequency::<I>(p), z, mode_peak::<I>(p));
+}
+fn set_mode_peak<const I: usize>(p: &mut PlantParams, r: f64) {
+    set_higher::<I>(p, mode_frequency::<I>(p), mode_damping::<I>(p), r);
 }
 
 /// The variable table of `MillingPlant.fmu`: one row per variable.
@@ -59,24 +82,12 @@ pub static TABLE: LazyLock<Table<PlantParams, PlantInputs, PlantOutputs>> = Lazy
                 102 "workpiece.damping_ratio"        [workpiece.first.damping_ratio] ""    [0.0, 0.99]    "first-mode damping ratio";
                 103 "workpiece.initial_displacement" [workpiece.initial_displacement] "m"  [-0.1, 0.1]    "initial tip displacement (free decay)";
                 2   "workpiece.modes"                [workpiece.modes]              ""     [1, 3]         "number of modes: 1 (first bending mode) or 3 (with the two higher modes)";
-                104 "workpiece.mode2.frequency"      [get |p: &PlantParams| p.workpiece.higher[0].frequency_hz(),
-                                                      set |p: &mut PlantParams, f: f64| { let m = p.workpiece.higher[0]; set_mode(&mut p.workpiece.higher[0], f, m.damping_ratio, m.peak_receptance()) }]
-                                                                                    "Hz"   [1e-3, 1e6]    "second mode";
-                105 "workpiece.mode2.damping_ratio"  [get |p: &PlantParams| p.workpiece.higher[0].damping_ratio,
-                                                      set |p: &mut PlantParams, z: f64| { let m = p.workpiece.higher[0]; set_mode(&mut p.workpiece.higher[0], m.frequency_hz(), z, m.peak_receptance()) }]
-                                                                                    ""     [1e-6, 0.99]   "second mode";
-                106 "workpiece.mode2.peak_receptance" [get |p: &PlantParams| p.workpiece.higher[0].peak_receptance(),
-                                                      set |p: &mut PlantParams, r: f64| { let m = p.workpiece.higher[0]; set_mode(&mut p.workpiece.higher[0], m.frequency_hz(), m.damping_ratio, r) }]
-                                                                                    "m/N"  [1e-15, 1.0]   "second mode";
-                107 "workpiece.mode3.frequency"      [get |p: &PlantParams| p.workpiece.higher[1].frequency_hz(),
-                                                      set |p: &mut PlantParams, f: f64| { let m = p.workpiece.higher[1]; set_mode(&mut p.workpiece.higher[1], f, m.damping_ratio, m.peak_receptance()) }]
-                                                                                    "Hz"   [1e-3, 1e6]    "third mode";
-                108 "workpiece.mode3.damping_ratio"  [get |p: &PlantParams| p.workpiece.higher[1].damping_ratio,
-                                                      set |p: &mut PlantParams, z: f64| { let m = p.workpiece.higher[1]; set_mode(&mut p.workpiece.higher[1], m.frequency_hz(), z, m.peak_receptance()) }]
-                                                                                    ""     [1e-6, 0.99]   "third mode";
-                109 "workpiece.mode3.peak_receptance" [get |p: &PlantParams| p.workpiece.higher[1].peak_receptance(),
-                                                      set |p: &mut PlantParams, r: f64| { let m = p.workpiece.higher[1]; set_mode(&mut p.workpiece.higher[1], m.frequency_hz(), m.damping_ratio, r) }]
-                                                                                    "m/N"  [1e-15, 1.0]   "third mode";
+                104 "workpiece.mode2.frequency"       [get mode_frequency::<0>, set set_mode_frequency::<0>] "Hz"  [1e-3, 1e6]  "second mode";
+                105 "workpiece.mode2.damping_ratio"   [get mode_damping::<0>, set set_mode_damping::<0>]     ""    [1e-6, 0.99] "second mode";
+                106 "workpiece.mode2.peak_receptance" [get mode_peak::<0>, set set_mode_peak::<0>]           "m/N" [1e-15, 1.0] "second mode";
+                107 "workpiece.mode3.frequency"       [get mode_frequency::<1>, set set_mode_frequency::<1>] "Hz"  [1e-3, 1e6]  "third mode";
+                108 "workpiece.mode3.damping_ratio"   [get mode_damping::<1>, set set_mode_damping::<1>]     ""    [1e-6, 0.99] "third mode";
+                109 "workpiece.mode3.peak_receptance" [get mode_peak::<1>, set set_mode_peak::<1>]           "m/N" [1e-15, 1.0] "third mode";
                 1   "cutting.enabled"                [cutting.enabled]              ""     []             "cutting force on/off";
                 3   "cutting.model"                  [enum cutting.model]           ""     []             "cutting-force model";
                 4   "cutting.milling"                [enum cutting.milling]         ""     []             "up- or down-milling";
