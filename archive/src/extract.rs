@@ -5,8 +5,8 @@
 //! anything. While writing, no entry produces more bytes than it declared,
 //! so the declared sizes checked in the first pass bound what reaches the disk.
 
-use crate::ArchiveError;
 use crate::entry_path::safe_entry_path;
+use crate::error::ArchiveError;
 use std::io::Read;
 use std::path::{Path, PathBuf};
 

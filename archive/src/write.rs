@@ -6,8 +6,8 @@
 //! same bytes. The archive is written to `<name>.partial` next to the target
 //! and renamed into place, so readers never see half an archive.
 
-use crate::ArchiveError;
 use crate::entry_path::safe_entry_path;
+use crate::error::ArchiveError;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;

@@ -6,9 +6,9 @@
 
 use crate::error::{SspError, invalid};
 use crate::model::{ParamValue, Parameter};
-use crate::prescan::{SSV_ROOT, prescan};
+use crate::number::num;
+use crate::prescan::{SSV_ROOT, deserialize};
 use crate::schema;
-use crate::write::num;
 use std::collections::HashMap;
 
 /// Reads a binding's `source` file (a path relative to the SSD), as text.
@@ -80,8 +80,7 @@ fn read_set(set: &schema::ParameterSet, prefix: &str, file: &str) -> Result<Vec<
 
 /// Parse an `.ssv` file (root `ssv:ParameterSet`); names prefixed with `prefix`.
 pub fn parse_ssv(xml: &str, file: &str, prefix: &str) -> Result<Vec<Parameter>, SspError> {
-    prescan(xml, file, SSV_ROOT)?;
-    let set: schema::ParameterSet = crate::read::deserialize(xml, file)?;
+    let set: schema::ParameterSet = deserialize(xml, file, SSV_ROOT)?;
     read_set(&set, prefix, file)
 }
 

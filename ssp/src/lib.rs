@@ -30,6 +30,8 @@ mod archive;
 mod bindings;
 mod error;
 mod model;
+mod names;
+mod number;
 mod prescan;
 mod read;
 mod schema;
@@ -42,34 +44,5 @@ pub use model::{
     ComponentDesc, Connection, Connector, ConnectorKind, ConnectorType, Linear, MasterSettings, Order, ParamValue,
     Parameter, SystemDescription,
 };
-
-/// Namespace of `ssd:` elements (system structure).
-pub const NS_SSD: &str = "http://ssp-standard.org/SSP1/SystemStructureDescription";
-/// Namespace of `ssc:` elements (common types, annotations, transformations).
-pub const NS_SSC: &str = "http://ssp-standard.org/SSP1/SystemStructureCommon";
-/// Namespace of `ssv:` elements (parameter values).
-pub const NS_SSV: &str = "http://ssp-standard.org/SSP1/SystemStructureParameterValues";
-/// Namespace of `ssm:` elements (parameter mappings: recognised, not supported).
-pub const NS_SSM: &str = "http://ssp-standard.org/SSP1/SystemStructureParameterMapping";
-/// Namespace of `ssb:` elements (signal dictionaries: recognised, not supported).
-pub const NS_SSB: &str = "http://ssp-standard.org/SSP1/SystemStructureSignalDictionary";
-/// Type of this master's annotation (communication step, order, sequence).
-pub const ANNOTATION_TYPE: &str = "org.chatter-fmu.master";
-/// Namespace of the `Settings` element inside that annotation.
-pub const NS_MASTER: &str = "urn:chatter-fmu:master:1";
-/// Deepest element nesting accepted in an SSD or `.ssv` (an SSD needs about a dozen levels).
-pub const MAX_DEPTH: usize = 64;
-
-impl SystemDescription {
-    /// Parse an SSD document. `file` names it in errors; `read_source`
-    /// reads `source=` files of parameter bindings relative to the SSD (None:
-    /// such references are an error).
-    pub fn from_xml(xml: &str, file: &str, read_source: Option<SourceReader<'_>>) -> Result<Self, SspError> {
-        read::parse_ssd(xml, file, read_source)
-    }
-
-    /// Render as a standard `SystemStructure.ssd` (SSP 1.0, UTF-8, with XML declaration).
-    pub fn to_xml(&self) -> Result<String, SspError> {
-        write::to_xml(self)
-    }
-}
+pub use names::{ANNOTATION_TYPE, NS_MASTER, NS_SSB, NS_SSC, NS_SSD, NS_SSM, NS_SSV};
+pub use prescan::MAX_DEPTH;

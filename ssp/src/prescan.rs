@@ -1,4 +1,5 @@
-//! The streaming pre-scan every document passes before serde sees it.
+//! The streaming pre-scan every document passes before serde sees it, and
+//! [`deserialize`], the one entry point from XML text to schema types.
 //!
 //! One pass of quick-xml's namespace-resolving reader, with constant stack
 //! use whatever the input, checks that the XML is well-formed, that the root
@@ -9,9 +10,12 @@
 //! elements deep would otherwise exhaust the stack).
 
 use crate::error::SspError;
-use crate::{MAX_DEPTH, NS_SSB, NS_SSC, NS_SSD, NS_SSM, NS_SSV};
+use crate::names::{NS_SSB, NS_SSC, NS_SSD, NS_SSM, NS_SSV};
 use quick_xml::events::Event;
 use quick_xml::name::ResolveResult;
+
+/// Deepest element nesting accepted in an SSD or `.ssv` (an SSD needs about a dozen levels).
+pub const MAX_DEPTH: usize = 64;
 
 /// The expected root element of a document.
 #[derive(Clone, Copy, Debug)]
@@ -112,6 +116,12 @@ pub(crate) fn prescan(xml: &str, file: &str, root: Root) -> Result<(), SspError>
         Some(message) => Err(SspError::Invalid { file: file.to_string(), message }),
         None => Ok(()),
     }
+}
+
+/// Pre-scan `xml` (root `root`), then deserialize it into a schema type.
+pub(crate) fn deserialize<T: serde::de::DeserializeOwned>(xml: &str, file: &str, root: Root) -> Result<T, SspError> {
+    prescan(xml, file, root)?;
+    quick_xml::de::from_str(xml).map_err(|e| SspError::Xml { file: file.to_string(), message: e.to_string() })
 }
 
 #[cfg(test)]

@@ -16,21 +16,10 @@ use crate::model::{
     ComponentDesc, Connection, Connector, ConnectorKind, ConnectorType, Linear, MasterSettings, Order,
     SystemDescription,
 };
-use crate::prescan::{SSD_ROOT, prescan};
-use crate::{ANNOTATION_TYPE, schema};
-
-/// Deserialize a pre-scanned document into a schema type.
-pub(crate) fn deserialize<T: serde::de::DeserializeOwned>(xml: &str, file: &str) -> Result<T, SspError> {
-    quick_xml::de::from_str(xml).map_err(|e| SspError::Xml { file: file.to_string(), message: e.to_string() })
-}
-
-fn parse_f64(file: &str, what: &str, s: &str) -> Result<f64, SspError> {
-    s.trim().parse::<f64>().map_err(|_| invalid(file, format!("{what}: '{s}' is not a number")))
-}
-
-fn opt_f64(file: &str, what: &str, s: Option<&str>) -> Result<Option<f64>, SspError> {
-    s.map(|v| parse_f64(file, what, v)).transpose()
-}
+use crate::names::ANNOTATION_TYPE;
+use crate::number::{opt_f64, parse_f64};
+use crate::prescan::{SSD_ROOT, deserialize};
+use crate::schema;
 
 fn connector_type(c: &schema::Connector) -> Option<ConnectorType> {
     if let Some(r) = &c.real {
@@ -120,14 +109,17 @@ fn master_settings(annotations: Option<&schema::Annotations>, file: &str) -> Res
     Ok(m)
 }
 
-/// Parse an SSD document (see [`SystemDescription::from_xml`]).
-pub(crate) fn parse_ssd(
-    xml: &str,
-    file: &str,
-    read_source: Option<SourceReader<'_>>,
-) -> Result<SystemDescription, SspError> {
-    prescan(xml, file, SSD_ROOT)?;
-    let doc: schema::Ssd = deserialize(xml, file)?;
+impl SystemDescription {
+    /// Parse an SSD document. `file` names it in errors; `read_source`
+    /// reads `source=` files of parameter bindings relative to the SSD (None:
+    /// such references are an error).
+    pub fn from_xml(xml: &str, file: &str, read_source: Option<SourceReader<'_>>) -> Result<Self, SspError> {
+        parse_ssd(xml, file, read_source)
+    }
+}
+
+fn parse_ssd(xml: &str, file: &str, read_source: Option<SourceReader<'_>>) -> Result<SystemDescription, SspError> {
+    let doc: schema::Ssd = deserialize(xml, file, SSD_ROOT)?;
     let version = doc.version.as_deref().unwrap_or("");
     if !version.starts_with("1.") {
         return Err(invalid(file, format!("SSD version '{version}' (this master reads SSP 1.x)")));

@@ -335,7 +335,7 @@ pub(crate) struct Annotations {
     pub annotation: Vec<Annotation>,
 }
 
-/// `ssc:Annotation`: this master reads only its own type (see [`crate::ANNOTATION_TYPE`]).
+/// `ssc:Annotation`: this master reads only its own type (see [`crate::names::ANNOTATION_TYPE`]).
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub(crate) struct Annotation {
     #[serde(rename = "@type", default)]

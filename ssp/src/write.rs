@@ -9,21 +9,10 @@
 use crate::bindings::write_bindings;
 use crate::error::SspError;
 use crate::model::{ConnectorType, SystemDescription};
-use crate::{ANNOTATION_TYPE, NS_MASTER, NS_SSC, NS_SSD, NS_SSV, schema};
+use crate::names::{ANNOTATION_TYPE, NS_MASTER, NS_SSC, NS_SSD, NS_SSV};
+use crate::number::num;
+use crate::schema;
 use serde::Serialize;
-
-/// Shortest round-tripping decimal form of a double, valid as `xs:double`.
-pub(crate) fn num(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:?}")
-    } else if x.is_nan() {
-        "NaN".into()
-    } else if x > 0.0 {
-        "INF".into()
-    } else {
-        "-INF".into()
-    }
-}
 
 fn connector(k: &crate::model::Connector) -> schema::Connector {
     let mut c =
@@ -107,8 +96,14 @@ fn document(d: &SystemDescription) -> schema::Ssd {
     }
 }
 
-/// Render as a standard `SystemStructure.ssd` (see [`SystemDescription::to_xml`]).
-pub(crate) fn to_xml(d: &SystemDescription) -> Result<String, SspError> {
+impl SystemDescription {
+    /// Render as a standard `SystemStructure.ssd` (SSP 1.0, UTF-8, with XML declaration).
+    pub fn to_xml(&self) -> Result<String, SspError> {
+        to_xml(self)
+    }
+}
+
+fn to_xml(d: &SystemDescription) -> Result<String, SspError> {
     let err = |e: quick_xml::SeError| SspError::Write { name: d.name.clone(), message: e.to_string() };
     let mut body = String::new();
     let mut ser =
