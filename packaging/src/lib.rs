@@ -223,5 +223,5 @@ pub fn table2_ssd() -> Result<String> {
         "{} Controller gains: the paper's Table 2 preset (SI reading), not the PSO-tuned FMU defaults.",
         sys.description.unwrap_or_default()
     ));
-    Ok(sys.to_xml())
+    Ok(sys.to_xml()?)
 }
