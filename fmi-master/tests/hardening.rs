@@ -17,12 +17,14 @@ fn closed_loop_ssd() -> String {
 fn info_on_a_deeply_nested_ssd_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
     let n = 300_000;
+    // Exactly what aborted the old reader: a default namespace and 300 000 nested <a>, 2.1 MB.
     let xml = format!(
-        "<ssd:SystemStructureDescription xmlns:ssd=\"{}\" version=\"1.0\" name=\"deep\">{}{}</ssd:SystemStructureDescription>",
+        "<SystemStructureDescription xmlns=\"{}\" version=\"1.0\" name=\"deep\">{}{}</SystemStructureDescription>",
         ssp::NS_SSD,
-        "<ssd:System>".repeat(n),
-        "</ssd:System>".repeat(n)
+        "<a>".repeat(n),
+        "</a>".repeat(n)
     );
+    assert!(xml.len() > 2_000_000);
     let path = dir.path().join("deep.ssd");
     std::fs::write(&path, xml).unwrap();
     let (ok, _, err) = run(cosim().arg("info").arg(&path));
