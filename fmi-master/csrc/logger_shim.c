@@ -15,7 +15,7 @@
 typedef void (*fmi_master_sink)(void *env, const char *instance, int status, const char *category,
                                 const char *message);
 
-/* Layout shared with `LogEnv` in src/import.rs (#[repr(C)], sink first). */
+/* Layout shared with `LogEnv` in src/import/ffi.rs (#[repr(C)], sink first). */
 struct fmi_master_log_env {
     fmi_master_sink sink;
 };

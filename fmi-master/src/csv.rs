@@ -3,8 +3,8 @@
 //! form that reads back to the same double (integral values without a
 //! fraction, booleans as 0/1).
 
-use crate::engine::Observer;
 use crate::error::SimError;
+use crate::observer::Observer;
 use std::io::{BufRead, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -42,9 +42,9 @@ impl CsvWriter {
         if let Some(dir) = path.parent()
             && !dir.as_os_str().is_empty()
         {
-            std::fs::create_dir_all(dir).map_err(|source| SimError::Output { path: dir.to_path_buf(), source })?;
+            std::fs::create_dir_all(dir).map_err(|error| SimError::Output { path: dir.to_path_buf(), error })?;
         }
-        let f = std::fs::File::create(path).map_err(|source| SimError::Output { path: path.to_path_buf(), source })?;
+        let f = std::fs::File::create(path).map_err(|error| SimError::Output { path: path.to_path_buf(), error })?;
         Ok(CsvWriter {
             path: path.to_path_buf(),
             out: BufWriter::with_capacity(1 << 16, f),
@@ -59,8 +59,8 @@ impl CsvWriter {
         self.rows
     }
 
-    fn err(&self, source: std::io::Error) -> SimError {
-        SimError::Output { path: self.path.clone(), source }
+    fn err(&self, error: std::io::Error) -> SimError {
+        SimError::Output { path: self.path.clone(), error }
     }
 }
 
@@ -114,35 +114,50 @@ impl Table {
     }
 }
 
+/// Errors reading a results CSV.
+#[derive(Debug, thiserror::Error)]
+pub enum CsvError {
+    /// The file cannot be opened or read.
+    #[error("cannot read {}: {error}", path.display())]
+    Io {
+        /// The CSV file.
+        path: PathBuf,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+    /// The content is not a numeric CSV with a header.
+    #[error("{}: {message}", path.display())]
+    Format {
+        /// The CSV file.
+        path: PathBuf,
+        /// What is wrong, with the row.
+        message: String,
+    },
+}
+
 /// Read a CSV written by [`CsvWriter`] (or FMPy's `write_csv`, numeric columns).
-pub fn read_csv(path: &Path) -> anyhow::Result<Table> {
-    use anyhow::Context;
-    let f = std::fs::File::open(path).with_context(|| format!("opening {}", path.display()))?;
+pub fn read_csv(path: &Path) -> Result<Table, CsvError> {
+    let io = |error| CsvError::Io { path: path.to_path_buf(), error };
+    let format = |message: String| CsvError::Format { path: path.to_path_buf(), message };
+    let f = std::fs::File::open(path).map_err(io)?;
     let mut lines = std::io::BufReader::new(f).lines();
-    let header = lines.next().context("empty CSV file")??;
+    let header = lines.next().ok_or_else(|| format("empty CSV file".into()))?.map_err(io)?;
     let names: Vec<String> = header.split(',').map(|s| s.trim().trim_matches('"').to_string()).collect();
     let mut columns = vec![Vec::new(); names.len()];
     for (i, line) in lines.enumerate() {
-        let line = line?;
+        let line = line.map_err(io)?;
         if line.trim().is_empty() {
             continue;
         }
         let cells: Vec<&str> = line.split(',').collect();
-        anyhow::ensure!(
-            cells.len() == names.len(),
-            "{}: row {} has {} cells, expected {}",
-            path.display(),
-            i + 2,
-            cells.len(),
-            names.len()
-        );
+        if cells.len() != names.len() {
+            return Err(format(format!("row {} has {} cells, expected {}", i + 2, cells.len(), names.len())));
+        }
         for (c, cell) in cells.iter().enumerate() {
             let v = match cell.trim() {
                 "True" | "true" => 1.0,
                 "False" | "false" => 0.0,
-                s => s
-                    .parse::<f64>()
-                    .with_context(|| format!("{}: row {}: '{s}' is not a number", path.display(), i + 2))?,
+                s => s.parse::<f64>().map_err(|_| format(format!("row {}: '{s}' is not a number", i + 2)))?,
             };
             columns[c].push(v);
         }

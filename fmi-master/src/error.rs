@@ -4,7 +4,9 @@
 //! failed FMI call names the instance, the call, the simulation time and
 //! quotes the FMU's own recent log lines. [`SetupError`] covers a system
 //! that cannot be assembled (unknown component or variable, type mismatch,
-//! bad `--set` value). [`SimError`] is the union the run engine returns.
+//! bad `--set` value, missing FMU). [`SimError`] is the union the run engine
+//! returns. I/O errors are part of the message and not also a `source()`, so
+//! an error chain printed with `{:#}` states each cause once.
 
 use std::fmt;
 use std::path::PathBuf;
@@ -30,34 +32,18 @@ impl fmt::Display for LogExcerpt {
 #[derive(Debug, thiserror::Error)]
 pub enum FmuError {
     /// File-system error.
-    #[error("{context} {}: {source}", path.display())]
+    #[error("{context} {}: {error}", path.display())]
     Io {
         /// What was being done.
         context: &'static str,
         /// The path involved.
         path: PathBuf,
-        /// The underlying error.
-        #[source]
-        source: std::io::Error,
+        /// The operating system's error.
+        error: std::io::Error,
     },
-    /// Not a readable zip archive.
-    #[error("{} is not a valid zip archive: {reason}", path.display())]
-    Archive {
-        /// The archive.
-        path: PathBuf,
-        /// Why.
-        reason: String,
-    },
-    /// A zip entry that would escape the extraction directory (or is a link).
-    #[error("refusing to extract {}: unsafe entry '{entry}' ({reason})", path.display())]
-    UnsafeEntry {
-        /// The archive.
-        path: PathBuf,
-        /// The entry's name as stored.
-        entry: String,
-        /// Why it is unsafe.
-        reason: &'static str,
-    },
+    /// The archive is not a readable zip, has an unsafe entry, or exceeds the extraction limits.
+    #[error(transparent)]
+    Archive(#[from] fmi_archive::ArchiveError),
     /// `modelDescription.xml` missing or unparsable.
     #[error("FMU {fmu}: {message}")]
     Description {
@@ -192,6 +178,18 @@ pub enum SetupError {
     /// A `--set` or parameter value that cannot be used.
     #[error("{0}")]
     Value(String),
+    /// A component's FMU file does not exist.
+    #[error("component {component}: FMU '{source_uri}' not found (looked at {looked_at}){hint}")]
+    MissingFmu {
+        /// Component name.
+        component: String,
+        /// Its `source` in the system description.
+        source_uri: String,
+        /// The paths tried.
+        looked_at: String,
+        /// What to do about it, or empty.
+        hint: String,
+    },
     /// Anything else about the system description.
     #[error("{0}")]
     Invalid(String),
@@ -208,15 +206,14 @@ pub enum SimError {
     Setup(#[from] SetupError),
     /// The system description could not be read.
     #[error(transparent)]
-    Ssp(#[from] crate::ssp::SspError),
+    Ssp(#[from] ssp::SspError),
     /// Writing results failed.
-    #[error("writing {}: {source}", path.display())]
+    #[error("writing {}: {error}", path.display())]
     Output {
         /// The output file.
         path: PathBuf,
-        /// The underlying error.
-        #[source]
-        source: std::io::Error,
+        /// The operating system's error.
+        error: std::io::Error,
     },
 }
 

@@ -21,7 +21,7 @@ use crate::csv::CsvWriter;
 use crate::engine::{Observer, Progress, RunConfig, Simulation};
 use crate::error::SimError;
 use crate::import::Fmu;
-use crate::params::Override;
+use crate::overrides::Override;
 use crate::plot::{Envelope, Mark, Panel};
 use crate::spectrum::{Spectrum, single_sided};
 use crate::system::SystemFile;

@@ -7,10 +7,36 @@
 //! crates.io crate `epaint_default_fonts` (Ubuntu Light) is registered with
 //! plotters before drawing.
 
-use anyhow::{Context, Result};
+use crate::csv::CsvError;
 use plotters::prelude::*;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Once;
+
+/// Errors of the plot functions.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The CSV to plot could not be read.
+    #[error(transparent)]
+    Csv(#[from] CsvError),
+    /// The data cannot be plotted (missing column, too few rows).
+    #[error("{0}")]
+    Data(String),
+    /// Drawing or writing the PNG failed.
+    #[error("cannot draw {}: {message}", path.display())]
+    Draw {
+        /// The PNG file.
+        path: PathBuf,
+        /// The plotting library's message.
+        message: String,
+    },
+}
+
+/// What the drawing code's `?` collects (plotters' error types are generic).
+type DrawError = Box<dyn std::error::Error + Send + Sync>;
+
+fn drawn(path: &Path, r: Result<(), DrawError>) -> Result<(), PlotError> {
+    r.map_err(|e| PlotError::Draw { path: path.to_path_buf(), message: e.to_string() })
+}
 
 const FONT: &str = "sans-serif";
 
@@ -75,7 +101,23 @@ const COLORS: [RGBColor; 4] =
 
 /// Stacked time histories (envelopes), common y range; `scale` multiplies
 /// values (e.g. 1e6 for µm) and `unit` labels the y axis.
-pub fn time_histories(path: &Path, title: &str, panels: &[Panel<'_, Envelope>], scale: f64, unit: &str) -> Result<()> {
+pub fn time_histories(
+    path: &Path,
+    title: &str,
+    panels: &[Panel<'_, Envelope>],
+    scale: f64,
+    unit: &str,
+) -> Result<(), PlotError> {
+    drawn(path, draw_time_histories(path, title, panels, scale, unit))
+}
+
+fn draw_time_histories(
+    path: &Path,
+    title: &str,
+    panels: &[Panel<'_, Envelope>],
+    scale: f64,
+    unit: &str,
+) -> Result<(), DrawError> {
     register_font();
     let h = 220 * panels.len() as u32 + 60;
     let root = BitMapBackend::new(path, (1400, h)).into_drawing_area();
@@ -114,7 +156,7 @@ pub fn time_histories(path: &Path, title: &str, panels: &[Panel<'_, Envelope>], 
         }
         chart.draw_series(LineSeries::new(pts, color.stroke_width(1)))?;
     }
-    root.present().with_context(|| format!("writing {}", path.display()))?;
+    root.present()?;
     Ok(())
 }
 
@@ -136,7 +178,19 @@ pub fn spectra(
     marks: &[Mark],
     scale: f64,
     unit: &str,
-) -> Result<()> {
+) -> Result<(), PlotError> {
+    drawn(path, draw_spectra(path, title, panels, f_max, marks, scale, unit))
+}
+
+fn draw_spectra(
+    path: &Path,
+    title: &str,
+    panels: &[Panel<'_, crate::spectrum::Spectrum>],
+    f_max: f64,
+    marks: &[Mark],
+    scale: f64,
+    unit: &str,
+) -> Result<(), DrawError> {
     register_font();
     let h = 220 * panels.len() as u32 + 60;
     let root = BitMapBackend::new(path, (1400, h)).into_drawing_area();
@@ -188,23 +242,26 @@ pub fn spectra(
                 .draw()?;
         }
     }
-    root.present().with_context(|| format!("writing {}", path.display()))?;
+    root.present()?;
     Ok(())
 }
 
 /// Plot columns of a CSV (`cosim plot`): time histories of each, and
 /// optionally their spectra up to `f_max` with marks.
-pub fn plot_csv(csv: &Path, vars: &[String], out: &Path, spectrum: Option<(f64, Vec<Mark>)>) -> Result<()> {
+pub fn plot_csv(csv: &Path, vars: &[String], out: &Path, spectrum: Option<(f64, Vec<Mark>)>) -> Result<(), PlotError> {
     let table = crate::csv::read_csv(csv)?;
-    let time = table.column("time").context("the CSV has no time column")?.to_vec();
-    anyhow::ensure!(time.len() >= 2, "{} has fewer than two rows", csv.display());
+    let data = |m: String| PlotError::Data(m);
+    let time = table.column("time").ok_or_else(|| data(format!("{} has no time column", csv.display())))?.to_vec();
+    if time.len() < 2 {
+        return Err(data(format!("{} has fewer than two rows", csv.display())));
+    }
     let names: Vec<String> = if vars.is_empty() { table.names[1..].to_vec() } else { vars.to_vec() };
     let mut envs = Vec::new();
     let mut specs = Vec::new();
     for n in &names {
         let col = table
             .column(n)
-            .with_context(|| format!("{} has no column {n} (it has: {})", csv.display(), table.names.join(", ")))?;
+            .ok_or_else(|| data(format!("{} has no column {n} (it has: {})", csv.display(), table.names.join(", "))))?;
         let mut e = Envelope::new(time[0], *time.last().expect("two rows"), 1200);
         for (t, x) in time.iter().zip(col) {
             e.add(*t, *x);

@@ -1,9 +1,15 @@
-//! Where a system comes from: an `.ssp` archive, a bare `.ssd` file, the
-//! embedded closed-loop scenario, or a single `.fmu` (a one-component
-//! system), and where its components' FMUs are found.
+//! Where a system comes from: an `.ssp` archive, a bare `.ssd` file, an SSD
+//! given as text (the embedded closed-loop scenario), or a single `.fmu` (a
+//! one-component system), and where its components' FMUs are found.
+//!
+//! An `.ssp` is self-contained: its components' FMUs must be in the archive
+//! (a missing one is an error naming it, never replaced by another file). A
+//! bare SSD's sources are relative to its directory, with `--fmu-dir` as a
+//! fallback for `resources/X.fmu` sources.
 
 use crate::error::{FmuError, SetupError, SimError};
-use crate::ssp::{ComponentDesc, SspError, SystemDescription};
+use fmi_archive::safe_entry_path;
+use ssp::{ComponentDesc, SystemDescription};
 use std::path::{Path, PathBuf};
 
 enum Base {
@@ -20,7 +26,7 @@ pub struct SystemFile {
     /// The parsed description.
     pub desc: SystemDescription,
     base: Base,
-    /// Fallback directory for component FMUs (`--fmu-dir`): `resources/X.fmu` → `<dir>/X.fmu`.
+    /// Fallback directory for the FMUs of a bare SSD (`--fmu-dir`): `resources/X.fmu` → `<dir>/X.fmu`.
     fmu_dir: Option<PathBuf>,
     /// Where the description came from (for messages).
     pub origin: String,
@@ -33,56 +39,36 @@ impl std::fmt::Debug for SystemFile {
 }
 
 impl SystemFile {
-    /// Open `.ssp`, `.ssd` or `.fmu` (by extension).
+    /// Open `.ssp`, `.ssd` or `.fmu` (by extension). `fmu_dir` is the
+    /// fallback directory for the FMUs of an `.ssd` (not used for an `.ssp`).
     pub fn open(path: &Path, fmu_dir: Option<&Path>) -> Result<SystemFile, SimError> {
         let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
         let origin = path.display().to_string();
+        let fmu_dir = fmu_dir.map(Path::to_path_buf);
         match ext.as_str() {
             "ssp" => {
-                let dir =
-                    tempfile::Builder::new().prefix("fmi-master-ssp-").tempdir().map_err(|source| FmuError::Io {
-                        context: "cannot create a temporary directory for",
-                        path: path.to_path_buf(),
-                        source,
-                    })?;
-                crate::unzip::extract(path, dir.path())?;
-                let ssd_path = dir.path().join("SystemStructure.ssd");
-                let xml = std::fs::read_to_string(&ssd_path)
-                    .map_err(|e| SspError::Io(format!("{origin}: cannot read SystemStructure.ssd: {e}")))?;
-                let base_dir = dir.path().to_path_buf();
-                let read = move |src: &str| read_relative(&base_dir, src);
-                let desc = SystemDescription::from_xml(&xml, &format!("{origin}!SystemStructure.ssd"), Some(&read))?;
-                Ok(SystemFile { desc, base: Base::Extracted(dir), fmu_dir: fmu_dir.map(Path::to_path_buf), origin })
+                let dir = tempfile::Builder::new().prefix("fmi-master-ssp-").tempdir().map_err(|error| {
+                    FmuError::Io { context: "cannot create a temporary directory for", path: path.to_path_buf(), error }
+                })?;
+                let desc = ssp::extract_ssp(path, dir.path())?;
+                Ok(SystemFile { desc, base: Base::Extracted(dir), fmu_dir: None, origin })
             }
             "ssd" | "xml" => {
-                let xml =
-                    std::fs::read_to_string(path).map_err(|e| SspError::Io(format!("cannot read {origin}: {e}")))?;
+                let desc = SystemDescription::from_file(path)?;
                 let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-                let d2 = dir.clone();
-                let read = move |src: &str| read_relative(&d2, src);
-                let desc = SystemDescription::from_xml(&xml, &origin, Some(&read))?;
-                Ok(SystemFile { desc, base: Base::Dir(dir), fmu_dir: fmu_dir.map(Path::to_path_buf), origin })
+                Ok(SystemFile { desc, base: Base::Dir(dir), fmu_dir, origin })
             }
             "fmu" => {
                 let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("fmu").to_string();
-                let desc = SystemDescription {
-                    name: stem.clone(),
-                    system_name: stem.clone(),
+                let mut desc = SystemDescription::new(&stem);
+                desc.components.push(ComponentDesc {
+                    name: stem,
+                    source: path.display().to_string(),
+                    implementation: None,
                     description: None,
-                    components: vec![ComponentDesc {
-                        name: stem,
-                        source: path.display().to_string(),
-                        implementation: None,
-                        description: None,
-                        connectors: Vec::new(),
-                        parameters: Vec::new(),
-                    }],
-                    connections: Vec::new(),
+                    connectors: Vec::new(),
                     parameters: Vec::new(),
-                    start_time: None,
-                    stop_time: None,
-                    master: Default::default(),
-                };
+                });
                 Ok(SystemFile { desc, base: Base::Single(path.to_path_buf()), fmu_dir: None, origin })
             }
             _ => Err(SetupError::Invalid(format!(
@@ -95,9 +81,7 @@ impl SystemFile {
     /// An SSD given as text (e.g. the embedded [`crate::CLOSED_LOOP_SSD`]); its
     /// component sources `resources/X.fmu` are looked up as `<fmu_dir>/X.fmu`.
     pub fn from_text(xml: &str, origin: &str, fmu_dir: &Path) -> Result<SystemFile, SimError> {
-        let dir = fmu_dir.to_path_buf();
-        let read = move |src: &str| read_relative(&dir, src);
-        let desc = SystemDescription::from_xml(xml, origin, Some(&read))?;
+        let desc = SystemDescription::from_xml_in(xml, origin, fmu_dir)?;
         Ok(SystemFile {
             desc,
             base: Base::Dir(fmu_dir.to_path_buf()),
@@ -113,26 +97,32 @@ impl SystemFile {
 
     /// The `.fmu` file of a component.
     pub fn fmu_path(&self, c: &ComponentDesc) -> Result<PathBuf, SimError> {
-        if let Base::Single(p) = &self.base {
-            return Ok(p.clone());
-        }
-        let rel = crate::unzip::safe_entry_path(&c.source).map_err(|why| {
+        let base = match &self.base {
+            Base::Single(p) => return Ok(p.clone()),
+            Base::Dir(d) => d.as_path(),
+            Base::Extracted(t) => t.path(),
+        };
+        let rel = safe_entry_path(&c.source).map_err(|why| {
             SetupError::Invalid(format!(
                 "component {}: source '{}' is not a relative path inside the system ({why})",
                 c.name, c.source
             ))
         })?;
-        let base = match &self.base {
-            Base::Dir(d) => d.clone(),
-            Base::Extracted(t) => t.path().to_path_buf(),
-            Base::Single(_) => unreachable!(),
+        let missing = |looked_at: String, hint: &str| SetupError::MissingFmu {
+            component: c.name.clone(),
+            source_uri: c.source.clone(),
+            looked_at,
+            hint: hint.to_string(),
         };
-        let mut tried = Vec::new();
         let direct = base.join(&rel);
         if direct.is_file() {
             return Ok(direct);
         }
-        tried.push(direct);
+        if let Base::Extracted(_) = self.base {
+            let inside = format!("{}!{}", self.origin, rel.to_string_lossy().replace('\\', "/"));
+            return Err(missing(inside, "; an .ssp archive must contain the FMUs its components name").into());
+        }
+        let mut tried = vec![direct];
         if let (Some(dir), Some(file)) = (&self.fmu_dir, rel.file_name()) {
             let p = dir.join(file);
             if p.is_file() {
@@ -140,22 +130,10 @@ impl SystemFile {
             }
             tried.push(p);
         }
-        Err(SetupError::Invalid(format!(
-            "component {}: FMU '{}' not found (looked at {}){}",
-            c.name,
-            c.source,
-            tried.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "),
-            if self.fmu_dir.is_some() { "; build the FMUs with `cargo run --release -p packaging`" } else { "" }
-        ))
-        .into())
+        let tried = tried.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ");
+        let hint = if self.fmu_dir.is_some() { "; build the FMUs with `cargo run --release -p packaging`" } else { "" };
+        Err(missing(tried, hint).into())
     }
-}
-
-fn read_relative(base: &Path, src: &str) -> Result<String, SspError> {
-    let rel = crate::unzip::safe_entry_path(src)
-        .map_err(|why| SspError::Io(format!("parameter source '{src}' is not a relative path ({why})")))?;
-    let p = base.join(rel);
-    std::fs::read_to_string(&p).map_err(|e| SspError::Io(format!("cannot read {}: {e}", p.display())))
 }
 
 /// The default directory of the project's FMUs: `$FMU_DIR` if set (the

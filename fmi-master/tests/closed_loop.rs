@@ -7,23 +7,8 @@
 
 mod common;
 
-use common::{cosim, rewrite_zip, run};
-use std::path::{Path, PathBuf};
-
-fn fmu_dir() -> PathBuf {
-    fmi_master::system::default_fmu_dir()
-}
-
-fn packaged(file: &str) -> PathBuf {
-    let p = fmu_dir().join(file);
-    assert!(
-        p.is_file(),
-        "{} is missing: build the FMUs first with `cargo run --release -p packaging` \
-         (tests/run_all.sh does this before `cargo test`)",
-        p.display()
-    );
-    p
-}
+use common::{cosim, fmu_dir, packaged, rewrite_zip, run};
+use std::path::Path;
 
 /// Entries left in a temporary directory (the master's extraction directories start with `fmi-master-`).
 fn leftovers(tmp: &Path) -> Vec<String> {

@@ -13,12 +13,15 @@
 //!   gains as SSP parameter bindings (the FMU defaults are the PSO-tuned gains).
 //!
 //! The cdylib's library name, the `modelIdentifier` and the binary's file name
-//! are one string, checked by this crate's tests.
+//! are one string, checked by this crate's tests. Archives are written with
+//! `fmi-archive`'s deterministic zip writer (fixed order, timestamps and
+//! permissions), so rebuilding the same sources gives the same files; the SSDs
+//! are written and edited with the `ssp` crate.
 
 use anyhow::{Context, Result, bail};
+use fmi_archive::{Compression, ZipBuilder};
 use fmi2_export::Fmi2Model;
 use model_description::{ModelDescription, VarKind};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -147,27 +150,14 @@ pub fn documentation_html(md: &ModelDescription, docs: &str) -> String {
 pub fn write_fmu(md: &ModelDescription, docs: &str, library: &Path, out: &Path) -> Result<()> {
     let id = md.model_identifier().context("model has no CoSimulation interface")?;
     let so = std::fs::read(library).with_context(|| format!("reading {}", library.display()))?;
-    let xml = md.to_xml()?;
-    if let Some(dir) = out.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    let tmp = out.with_extension("fmu.partial");
-    let file = std::fs::File::create(&tmp).with_context(|| format!("creating {}", tmp.display()))?;
-    let mut zip = zip::ZipWriter::new(file);
-    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
-    zip.start_file("modelDescription.xml", opts)?;
-    zip.write_all(xml.as_bytes())?;
-    zip.start_file(format!("binaries/linux64/{id}.so"), opts.unix_permissions(0o755))?;
-    zip.write_all(&so)?;
-    zip.start_file("documentation/index.html", opts)?;
-    zip.write_all(documentation_html(md, docs).as_bytes())?;
-    zip.start_file("resources/README.txt", opts)?;
-    zip.write_all(
-        format!("{} needs no resource files; this directory exists for masters that expect it.\n", md.model_name)
-            .as_bytes(),
-    )?;
-    zip.finish()?;
-    std::fs::rename(&tmp, out)?;
+    let readme =
+        format!("{} needs no resource files; this directory exists for masters that expect it.\n", md.model_name);
+    let mut zip = ZipBuilder::new();
+    zip.file("modelDescription.xml", md.to_xml()?, Compression::Deflated)
+        .executable(format!("binaries/linux64/{id}.so"), so, Compression::Deflated)
+        .file("documentation/index.html", documentation_html(md, docs), Compression::Deflated)
+        .file("resources/README.txt", readme, Compression::Deflated);
+    zip.write_to(out)?;
     Ok(())
 }
 
@@ -187,10 +177,10 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     }
     let ssp = dir.join("ClosedLoop.ssp");
     let refs: Vec<(&str, &Path)> = fmus.iter().map(|(n, p)| (n.as_str(), p.as_path())).collect();
-    fmi_master::write_ssp_archive(&ssp, fmi_master::CLOSED_LOOP_SSD, &refs)?;
+    ssp::write_ssp_archive(&ssp, fmi_master::CLOSED_LOOP_SSD, &refs)?;
     written.push(ssp);
     let ssp = dir.join("ClosedLoopTable2.ssp");
-    fmi_master::write_ssp_archive(&ssp, &table2_ssd()?, &refs)?;
+    ssp::write_ssp_archive(&ssp, &table2_ssd()?, &refs)?;
     written.push(ssp);
     Ok(written)
 }
@@ -199,8 +189,8 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
 /// (`ClosedLoopTable2.ssp`): the shipped FMU defaults are the PSO-tuned gains, and this system
 /// reproduces the seed's own settings with the same FMUs, in any SSP-capable tool.
 pub fn table2_ssd() -> Result<String> {
-    use fmi_master::ssp::{ParamValue, Parameter, SystemDescription};
     use model_description::Value;
+    use ssp::{ParamValue, Parameter, SystemDescription};
     let mut sys = SystemDescription::from_xml(fmi_master::CLOSED_LOOP_SSD, "ClosedLoop.ssd", None)?;
     let md = fmu_controller::ChatterController::description();
     let mut params = Vec::new();
@@ -231,5 +221,5 @@ pub fn table2_ssd() -> Result<String> {
         "{} Controller gains: the paper's Table 2 preset (SI reading), not the PSO-tuned FMU defaults.",
         sys.description.unwrap_or_default()
     ));
-    Ok(sys.to_xml())
+    Ok(sys.to_xml()?)
 }

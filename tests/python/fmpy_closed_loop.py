@@ -3,7 +3,7 @@
 Reads the system from an SSP archive (``target/fmu/ClosedLoop.ssp``): its
 components, connections and this project's master annotation (step size,
 Gauss-Seidel sequence), then runs the same call sequence as
-``fmi-master/src/engine.rs``:
+``fmi-master/src/engine/`` (``assembly.rs``, ``mod.rs``):
 
 1. per component, in document order: instantiate (loggingOn), setupExperiment(t0, stop),
    apply the SSD's inline parameter bindings, then the ``component.variable=value`` overrides;

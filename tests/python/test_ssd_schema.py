@@ -1,8 +1,9 @@
 """The master's SSD writer output is valid SSP 1.0 (the XSD files FMPy ships).
 
-`cargo test -p fmi-master` writes target/ssd-test/Full.ssd (every construct
-the writer emits) and ClosedLoop.ssd (the embedded default scenario); the
-shipped ClosedLoop.ssp is checked in test_cross_check.py.
+`cargo test -p ssp` writes target/ssd-test/Full.ssd (every construct the
+writer emits) and `cargo test -p fmi-master` writes ClosedLoop.ssd (the
+embedded default scenario); the shipped ClosedLoop.ssp is checked in
+test_cross_check.py.
 """
 import os
 import pathlib
@@ -20,5 +21,5 @@ TARGET = pathlib.Path(os.environ.get("CARGO_TARGET_DIR", ROOT / "target"))
 def test_written_ssd_validates_against_the_ssp_1_0_schema(name):
     path = TARGET / "ssd-test" / name
     if not path.exists():
-        pytest.fail(f"{path} missing: run `cargo test -p fmi-master` first")
+        pytest.fail(f"{path} missing: run `cargo test -p ssp -p fmi-master` first")
     validate_tree(etree.parse(str(path)).getroot(), "SystemStructureDescription.xsd")

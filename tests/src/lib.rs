@@ -6,7 +6,7 @@
 //! (`$CARGO_TARGET_DIR/fmu` if that is set). Every helper fails with a
 //! message saying so when they are missing.
 
-use fmi_master::params::Override;
+use fmi_master::Override;
 use fmi_master::ssp::Order;
 use fmi_master::{Progress, Recorder, RunConfig, Simulation, SystemFile};
 use std::path::{Path, PathBuf};

@@ -11,13 +11,13 @@
 //! SYSTEM is an `.ssp`, an `.ssd` or a single `.fmu`; without it, the
 //! embedded closed loop (`scenarios/ClosedLoop.ssd`) runs with the FMUs of
 //! `--fmu-dir` (default `target/fmu`). Errors print a message (with the
-//! FMU's own log lines for FMU failures) and exit with status 1.
+//! FMU's own log lines for FMU failures), each cause once, and exit with status 1.
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use fmi_master::engine::{Progress, RunConfig, Simulation};
 use fmi_master::mainjob::{self, MainJobConfig};
-use fmi_master::params::Override;
+use fmi_master::overrides::Override;
 use fmi_master::plot::Mark;
 use fmi_master::ssp::Order;
 use fmi_master::system::{SystemFile, default_fmu_dir};
@@ -324,6 +324,23 @@ fn main_job(a: MainJobArgs) -> Result<()> {
     Ok(())
 }
 
+/// The error and its causes, `: `-separated, skipping a cause whose text the
+/// message already contains (an I/O error quoted by the error that wraps it).
+fn report(e: &anyhow::Error) -> String {
+    let mut msg = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if msg.contains(&text) {
+            continue;
+        }
+        if !msg.is_empty() {
+            msg.push_str(": ");
+        }
+        msg.push_str(&text);
+    }
+    msg
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let r = match cli.cmd {
@@ -339,7 +356,7 @@ fn main() -> ExitCode {
     match r {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", report(&e));
             ExitCode::FAILURE
         }
     }

@@ -21,6 +21,23 @@ pub fn venv() -> PathBuf {
     v
 }
 
+/// The directory of the packaged FMUs (`target/fmu`, or `$FMU_DIR`).
+pub fn fmu_dir() -> PathBuf {
+    fmi_master::system::default_fmu_dir()
+}
+
+/// A file written by `cargo run --release -p packaging`; panics with instructions if it is missing.
+pub fn packaged(file: &str) -> PathBuf {
+    let p = fmu_dir().join(file);
+    assert!(
+        p.is_file(),
+        "{} is missing: build the FMUs first with `cargo run --release -p packaging` \
+         (tests/run_all.sh does this before `cargo test`)",
+        p.display()
+    );
+    p
+}
+
 /// The cosim binary built by cargo for this test run.
 pub fn cosim() -> Command {
     Command::new(env!("CARGO_BIN_EXE_cosim"))

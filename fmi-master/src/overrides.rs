@@ -1,9 +1,12 @@
-//! Parameter values: `--set component.variable=value` overrides and SSP
-//! parameter values, type-checked against the FMU's `modelDescription.xml`.
+//! Overrides and value conversion: parsing `--set component.variable=value`
+//! ([`Override`]), converting typed text and SSP parameter values into values
+//! of a variable's type (checked against the FMU's `modelDescription.xml`,
+//! enumeration items by name or number), whether a variable may be set, and
+//! "did you mean" suggestions for unknown names.
 
 use crate::error::SetupError;
-use crate::ssp::ParamValue;
 use model_description::{Causality, ModelDescription, ScalarType, ScalarVariable, Value, Variability};
+use ssp::ParamValue;
 
 /// One `--set target=value` override, not yet resolved against a system.
 #[derive(Clone, Debug, PartialEq)]
