@@ -8,13 +8,64 @@ use crate::error::SetupError;
 use model_description::{Causality, ModelDescription, ScalarType, ScalarVariable, Value, Variability};
 use ssp::ParamValue;
 
-/// One `--set target=value` override, not yet resolved against a system.
+/// One override of a parameter or input start value, not yet resolved against a system:
+/// `--set target=value` from a command line, or a typed value from a program.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Override {
     /// `component.variable` (or a bare variable name for a one-component system).
     pub target: String,
-    /// The value as typed.
-    pub value: String,
+    /// The value.
+    pub value: OverrideValue,
+}
+
+/// The value of an [`Override`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum OverrideValue {
+    /// As typed on a command line; converted to the variable's type (enumeration items by name).
+    Text(String),
+    /// A typed value (e.g. from an FMU adapter's `parameter_assignments`), checked against the
+    /// variable's type like an SSP parameter binding.
+    Typed(Value),
+}
+
+impl std::fmt::Display for OverrideValue {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            OverrideValue::Text(t) => f.write_str(t),
+            OverrideValue::Typed(Value::Real(x)) => write!(f, "{x:e}"),
+            OverrideValue::Typed(Value::Integer(i)) => write!(f, "{i}"),
+            OverrideValue::Typed(Value::Boolean(b)) => write!(f, "{b}"),
+            OverrideValue::Typed(Value::String(s)) => f.write_str(s),
+        }
+    }
+}
+
+impl Override {
+    /// An override as typed on a command line.
+    pub fn text(target: impl Into<String>, value: impl Into<String>) -> Override {
+        Override { target: target.into(), value: OverrideValue::Text(value.into()) }
+    }
+
+    /// A typed override.
+    pub fn typed(target: impl Into<String>, value: Value) -> Override {
+        Override { target: target.into(), value: OverrideValue::Typed(value) }
+    }
+
+    /// The value converted to the type of `v` (of the FMU described by `md`).
+    pub fn value_for(&self, md: &ModelDescription, v: &ScalarVariable, context: &str) -> Result<Value, SetupError> {
+        match &self.value {
+            OverrideValue::Text(t) => parse_value(md, v, t, context),
+            OverrideValue::Typed(x) => {
+                let p = match x {
+                    Value::Real(r) => ParamValue::Real(*r, None),
+                    Value::Integer(i) => ParamValue::Integer(*i),
+                    Value::Boolean(b) => ParamValue::Boolean(*b),
+                    Value::String(s) => ParamValue::String(s.clone()),
+                };
+                ssp_value(md, v, &p, context)
+            }
+        }
+    }
 }
 
 impl std::str::FromStr for Override {
@@ -39,7 +90,7 @@ pub fn parse_set(s: &str) -> Result<Override, SetupError> {
     if value.trim().is_empty() {
         return Err(SetupError::Value(format!("--set {s}: the value is empty")));
     }
-    Ok(Override { target: target.to_string(), value: value.trim().to_string() })
+    Ok(Override::text(target, value.trim()))
 }
 
 fn type_name(v: &ScalarVariable) -> &'static str {
@@ -186,10 +237,7 @@ mod tests {
 
     #[test]
     fn set_syntax_is_checked() {
-        assert_eq!(
-            parse_set("plant.spindle_speed=1500").unwrap(),
-            Override { target: "plant.spindle_speed".into(), value: "1500".into() }
-        );
+        assert_eq!(parse_set("plant.spindle_speed=1500").unwrap(), Override::text("plant.spindle_speed", "1500"));
         assert_eq!(parse_set("plant.cutting.kt = 7.6e8").unwrap().target, "plant.cutting.kt");
         for bad in ["plant.spindle_speed", "=3", "plant.x=", ".x=1", "plant.=1"] {
             let e = parse_set(bad).unwrap_err().to_string();

@@ -32,15 +32,18 @@ pub enum PlotError {
 }
 
 /// What the drawing code's `?` collects (plotters' error types are generic).
-type DrawError = Box<dyn std::error::Error + Send + Sync>;
+pub type DrawError = Box<dyn std::error::Error + Send + Sync>;
 
-fn drawn(path: &Path, r: Result<(), DrawError>) -> Result<(), PlotError> {
+/// A drawing function's result as a [`PlotError`] naming the file.
+pub fn drawn(path: &Path, r: Result<(), DrawError>) -> Result<(), PlotError> {
     r.map_err(|e| PlotError::Draw { path: path.to_path_buf(), message: e.to_string() })
 }
 
-const FONT: &str = "sans-serif";
+/// The font family every plot uses (registered by [`register_font`]).
+pub const FONT: &str = "sans-serif";
 
-fn register_font() {
+/// Register the shipped TrueType font with plotters (once per process); call before drawing text.
+pub fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The bytes are a valid TTF compiled into the binary; a failure here

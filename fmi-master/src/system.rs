@@ -135,20 +135,3 @@ impl SystemFile {
         Err(missing(tried, hint).into())
     }
 }
-
-/// The default directory of the project's FMUs: `$FMU_DIR` if set (the
-/// variable the Python tests use too), else `$CARGO_TARGET_DIR/fmu` if set,
-/// else `target/fmu` of this workspace (if it exists), else `./target/fmu`.
-pub fn default_fmu_dir() -> PathBuf {
-    if let Some(d) = std::env::var_os("FMU_DIR") {
-        return PathBuf::from(d);
-    }
-    if let Some(t) = std::env::var_os("CARGO_TARGET_DIR") {
-        return PathBuf::from(t).join("fmu");
-    }
-    let ws = Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(|p| p.join("target").join("fmu"));
-    match ws {
-        Some(p) if p.is_dir() => p,
-        _ => PathBuf::from("target").join("fmu"),
-    }
-}

@@ -1,7 +1,6 @@
 //! The `cosim` command line on the project's own FMUs (`target/fmu`, built
 //! by `cargo run --release -p packaging` before the tests): the shipped SSP
-//! and the embedded default scenario run, a short main job writes its table,
-//! CSVs and plots, malformed inputs on the real FMUs (wrong GUID, bad
+//! and its bare SSD with `--fmu-dir` run, malformed inputs on the real FMUs (wrong GUID, bad
 //! `--set` values) give a clear error and a non-zero exit, and no temporary
 //! directory is left behind on success or failure.
 
@@ -16,7 +15,7 @@ fn leftovers(tmp: &Path) -> Vec<String> {
 }
 
 #[test]
-fn the_shipped_ssp_and_the_embedded_scenario_run_and_clean_up() {
+fn the_shipped_ssp_and_its_bare_ssd_run_and_clean_up() {
     let dir = tempfile::tempdir().unwrap();
     let tmp = tempfile::tempdir().unwrap();
     let csv = dir.path().join("ssp.csv");
@@ -32,11 +31,12 @@ fn the_shipped_ssp_and_the_embedded_scenario_run_and_clean_up() {
     assert_eq!(t.columns[0].len(), 51, "0.05 s at a 1 ms output interval");
     assert!(t.names.contains(&"plant.x".to_string()) && t.names.contains(&"controller.u".to_string()), "{:?}", t.names);
     assert!(leftovers(tmp.path()).is_empty(), "temporary files left: {:?}", leftovers(tmp.path()));
-    // The embedded scenario (no SYSTEM argument) with the FMUs of --fmu-dir: the same numbers.
-    let csv2 = dir.path().join("embedded.csv");
+    // The same system as a bare .ssd with the FMUs of --fmu-dir: the same numbers.
+    let csv2 = dir.path().join("ssd.csv");
     let (ok, _, err) = run(cosim()
         .env("TMPDIR", tmp.path())
         .arg("run")
+        .arg(common::workspace_root().join("packaging/scenarios/ClosedLoop.ssd"))
         .arg("--fmu-dir")
         .arg(fmu_dir())
         .args(["--stop-time", "0.05", "--output-interval", "1e-3", "--set", "controller.structure=adrc_fopid", "-o"])
@@ -96,33 +96,4 @@ fn a_wrong_guid_exits_non_zero_quoting_the_fmu() {
     assert!(!ok);
     assert!(err.contains("fmi2Instantiate of instance 'MillingPlant' failed"), "{err}");
     assert!(err.contains("Wrong GUID {00000000-0000-0000-0000-000000000000}"), "{err}");
-}
-
-#[test]
-fn a_short_main_job_writes_its_table_csvs_and_plots() {
-    packaged("ClosedLoop.ssp");
-    let out = tempfile::tempdir().unwrap();
-    let (ok, stdout, err) = run(cosim()
-        .arg("main-job")
-        .arg("--fmu-dir")
-        .arg(fmu_dir())
-        .args(["--seeds", "2", "--stop-time", "0.05", "--csv-interval", "1e-4", "--out"])
-        .arg(out.path()));
-    assert!(ok, "{err}");
-    for label in ["| Open loop |", "| PID |", "| FOPID |", "| ADRC-FOPID |", "3.78 ± 0.21", "68.5 % ± 1.5 %"] {
-        assert!(stdout.contains(label), "missing {label} in\n{stdout}");
-    }
-    assert!(stdout.contains("tooth passing 133.3 Hz"), "{stdout}");
-    let table = std::fs::read_to_string(out.path().join("table5.md")).unwrap();
-    assert!(table.contains("| ADRC-FOPID |"), "{table}");
-    for f in ["fig6_time_history.png", "fig7_spectrum.png"] {
-        let bytes = std::fs::read(out.path().join(f)).unwrap();
-        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{f}");
-    }
-    let run_csv = out.path().join("runs/adrc_fopid_seed01.csv");
-    let t = fmi_master::csv::read_csv(&run_csv).unwrap();
-    assert_eq!(t.names, vec!["time", "plant.x", "controller.u"]);
-    assert_eq!(t.columns[0].len(), 501, "0.05 s at the 0.1 ms CSV interval");
-    let summary = std::fs::read_to_string(out.path().join("runs_summary.csv")).unwrap();
-    assert_eq!(summary.lines().count(), 1 + 4 * 2, "{summary}");
 }

@@ -161,6 +161,18 @@ impl<S> std::fmt::Debug for Row<S> {
     }
 }
 
+impl<S> Row<S> {
+    /// The variable's value in `s`.
+    pub fn get(&self, s: &S) -> Value {
+        (self.get)(s)
+    }
+
+    /// Store `v` in `s`; the error names the variable.
+    pub fn set(&self, s: &mut S, v: &Value) -> Result<(), String> {
+        (self.set)(s, v).map_err(|e| format!("{}: {e}", self.attrs.name))
+    }
+}
+
 impl<S: 'static> Row<S> {
     /// A row stored in a field of `S` (`read` and `write` select the same field).
     pub fn field<T: Scalar + 'static>(attrs: Attrs, read: fn(&S) -> &T, write: fn(&mut S) -> &mut T) -> Self {
@@ -210,16 +222,6 @@ impl<S: 'static> Row<S> {
                 Ok(())
             }),
         }
-    }
-
-    /// The variable's value in `s`.
-    pub fn get(&self, s: &S) -> Value {
-        (self.get)(s)
-    }
-
-    /// Store `v` in `s`; the error names the variable.
-    pub fn set(&self, s: &mut S, v: &Value) -> Result<(), String> {
-        (self.set)(s, v).map_err(|e| format!("{}: {e}", self.attrs.name))
     }
 
     /// The scalar variable of this row with causality `c` and start value `start`.
@@ -361,6 +363,11 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     /// bindings) to run the FMU with `p`.
     pub fn assignments(&self, p: &P) -> Vec<(String, Value)> {
         self.vars.parameters.iter().map(|r| (r.attrs.name.to_string(), r.get(p))).collect()
+    }
+
+    /// The inputs as `(name, value)` pairs (their start values for a run with `i`).
+    pub fn input_assignments(&self, i: &I) -> Vec<(String, Value)> {
+        self.vars.inputs.iter().map(|r| (r.attrs.name.to_string(), r.get(i))).collect()
     }
 
     /// The parameter row called `name`.

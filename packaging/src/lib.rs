@@ -25,6 +25,11 @@ use model_description::{ModelDescription, VarKind};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// The project's closed-loop system (plant + controller), `packaging/scenarios/ClosedLoop.ssd`:
+/// the `SystemStructure.ssd` of `ClosedLoop.ssp` (and, with the Table 2 bindings, of
+/// `ClosedLoopTable2.ssp`), and the studies' scenario when no `.ssp` is at hand.
+pub const CLOSED_LOOP_SSD: &str = include_str!("../scenarios/ClosedLoop.ssd");
+
 /// One FMU product of the project.
 pub struct Product {
     /// Cargo package of the cdylib.
@@ -177,7 +182,7 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     }
     let ssp = dir.join("ClosedLoop.ssp");
     let refs: Vec<(&str, &Path)> = fmus.iter().map(|(n, p)| (n.as_str(), p.as_path())).collect();
-    ssp::write_ssp_archive(&ssp, fmi_master::CLOSED_LOOP_SSD, &refs)?;
+    ssp::write_ssp_archive(&ssp, CLOSED_LOOP_SSD, &refs)?;
     written.push(ssp);
     let ssp = dir.join("ClosedLoopTable2.ssp");
     ssp::write_ssp_archive(&ssp, &table2_ssd()?, &refs)?;
@@ -191,7 +196,7 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
 pub fn table2_ssd() -> Result<String> {
     use model_description::Value;
     use ssp::{ParamValue, Parameter, SystemDescription};
-    let mut sys = SystemDescription::from_xml(fmi_master::CLOSED_LOOP_SSD, "ClosedLoop.ssd", None)?;
+    let mut sys = SystemDescription::from_xml(CLOSED_LOOP_SSD, "ClosedLoop.ssd", None)?;
     let md = fmu_controller::ChatterController::description();
     let mut params = Vec::new();
     for (name, value) in fmu_controller::parameter_assignments(&chatter_control::ControllerParams::paper_table2()) {
@@ -222,4 +227,40 @@ pub fn table2_ssd() -> Result<String> {
         sys.description.unwrap_or_default()
     ));
     Ok(sys.to_xml()?)
+}
+#[cfg(test)]
+mod tests {
+    use ssp::{ConnectorKind, SystemDescription};
+
+    /// The embedded SSD is in the writer's canonical form; also writes
+    /// `target/ssd-test/ClosedLoop.ssd` for `tests/python/test_ssd_schema.py`.
+    #[test]
+    fn the_embedded_closed_loop_is_canonical_and_complete() {
+        let d = SystemDescription::from_xml(crate::CLOSED_LOOP_SSD, "ClosedLoop.ssd", None).unwrap();
+        assert_eq!(
+            d.to_xml().unwrap(),
+            crate::CLOSED_LOOP_SSD,
+            "packaging/scenarios/ClosedLoop.ssd is not in the writer's canonical form"
+        );
+        assert_eq!(d.components.len(), 2);
+        assert!(d.components.iter().all(|c| c.source.starts_with("resources/") && c.source.ends_with(".fmu")));
+        assert_eq!(d.connections.len(), 2, "the closed loop has one feedback and one command connection");
+        // Every connection's end points are declared connectors of matching kinds.
+        for c in &d.connections {
+            let s = d.component(c.start_element.as_deref().unwrap()).unwrap();
+            let e = d.component(c.end_element.as_deref().unwrap()).unwrap();
+            let has = |k: &ssp::ComponentDesc, name: &str, kind| {
+                k.connectors.iter().any(|x| x.name == name && x.kind == kind)
+            };
+            assert!(has(s, &c.start_connector, ConnectorKind::Output), "{}", c.label());
+            assert!(has(e, &c.end_connector, ConnectorKind::Input), "{}", c.label());
+        }
+        assert!(d.master.step_size.is_some() && d.stop_time.is_some());
+        let target = std::env::var_os("CARGO_TARGET_DIR")
+            .map(std::path::PathBuf::from)
+            .unwrap_or_else(|| std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target"));
+        let dir = target.join("ssd-test");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("ClosedLoop.ssd"), crate::CLOSED_LOOP_SSD).unwrap();
+    }
 }

@@ -67,12 +67,17 @@
 //! | [`fmu_validation`] | the same check through the plant and controller FMUs in the Rust FMI master |
 
 pub mod closed_loop;
+mod error;
+pub mod fmu_params;
 pub mod fmu_validation;
 pub mod lobes;
 pub mod loop_frf;
+pub mod main_job;
 pub mod output;
 pub mod pso;
+pub mod scenario;
 pub mod tuning;
 pub mod validation;
 
+pub use error::StudyError;
 pub use lobes::{Cutting, GridOptions, LobeProblem};

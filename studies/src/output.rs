@@ -1,24 +1,13 @@
 //! CSV and PNG output of stability lobe diagrams.
 //!
-//! The PNG is drawn with plotters' bitmap backend; the CI machine has no system fonts, so a
-//! TrueType font shipped inside the crates.io crate `epaint_default_fonts` (Ubuntu Light) is
-//! registered with plotters before drawing (as in `fmi-master`).
+//! The PNG is drawn with plotters' bitmap backend and the font `fmi_master::plot` registers
+//! (the CI machine has no system fonts).
 
 use crate::lobes::CriticalPoint;
-use anyhow::{Context, Result};
+use fmi_master::plot::{DrawError, FONT, PlotError, drawn, register_font};
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
-use std::sync::Once;
-
-const FONT: &str = "sans-serif";
-
-fn register_font() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        let _ = plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
-    });
-}
 
 /// One named diagram (critical depth vs speed).
 #[derive(Clone, Debug)]
@@ -50,19 +39,26 @@ pub fn diagrams_csv(series: &[Series]) -> String {
 }
 
 /// Write [`diagrams_csv`] to a file.
-pub fn write_csv(path: &Path, series: &[Series]) -> Result<()> {
-    std::fs::write(path, diagrams_csv(series)).with_context(|| format!("writing {}", path.display()))
+pub fn write_csv(path: &Path, series: &[Series]) -> Result<(), crate::StudyError> {
+    std::fs::write(path, diagrams_csv(series)).map_err(|error| crate::StudyError::io(path, error))
 }
 
-/// Plot several diagrams on common axes (depth in mm, linear), PNG `width × height`.
-pub fn plot_png(path: &Path, title: &str, series: &[Series], width: u32, height: u32) -> Result<()> {
+/// Plot several diagrams on common axes (depth in mm, linear; logarithmic when the curves span
+/// more than a factor 20), PNG `width × height`.
+pub fn plot_png(path: &Path, title: &str, series: &[Series], width: u32, height: u32) -> Result<(), PlotError> {
     register_font();
+    drawn(path, draw(path, title, series, width, height))
+}
+
+fn draw(path: &Path, title: &str, series: &[Series], width: u32, height: u32) -> Result<(), DrawError> {
     let finite = || series.iter().flat_map(|s| s.points.iter()).filter(|p| p.depth.is_finite());
     let x0 = finite().map(|p| p.rpm).fold(f64::INFINITY, f64::min);
     let x1 = finite().map(|p| p.rpm).fold(f64::NEG_INFINITY, f64::max);
     let ymax = finite().map(|p| p.depth * 1e3).fold(0.0, f64::max);
     let ymin = finite().map(|p| p.depth * 1e3).fold(f64::INFINITY, f64::min);
-    anyhow::ensure!(x0.is_finite() && x1 > x0 && ymax > 0.0, "nothing finite to plot");
+    if !(x0.is_finite() && x1 > x0 && ymax > 0.0) {
+        return Err("nothing finite to plot".into());
+    }
     // curves spanning more than a factor 20 are drawn on a logarithmic depth axis (log10 values
     // on a linear axis, labels converted back)
     let log = ymax / ymin > 20.0;
@@ -109,7 +105,7 @@ pub fn plot_png(path: &Path, title: &str, series: &[Series], width: u32, height:
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()?;
-    root.present().with_context(|| format!("writing {}", path.display()))?;
+    root.present()?;
     Ok(())
 }
 

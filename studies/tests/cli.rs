@@ -81,3 +81,33 @@ fn tune_runs_a_tiny_swarm() {
     assert_eq!(std::fs::read_to_string(d.join("tuning_runs.csv")).unwrap().lines().count(), 5);
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+#[test]
+fn a_short_main_job_writes_its_table_csvs_and_plots() {
+    assert!(packaging::fmu_dir().join("ClosedLoop.ssp").is_file(), "run `cargo run --release -p packaging` first");
+    let out = std::env::temp_dir().join(format!("chatter-main-job-{}", std::process::id()));
+    let o = Command::new(env!("CARGO_BIN_EXE_chatter"))
+        .args(["main-job", "--seeds", "2", "--stop-time", "0.05", "--csv-interval", "1e-4", "--out"])
+        .arg(&out)
+        .output()
+        .expect("run chatter");
+    let (stdout, err) = (String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{err}");
+    for label in ["| Open loop |", "| PID |", "| FOPID |", "| ADRC-FOPID |", "3.78 ± 0.21", "68.5 % ± 1.5 %"] {
+        assert!(stdout.contains(label), "missing {label} in\n{stdout}");
+    }
+    assert!(stdout.contains("tooth passing 133.3 Hz"), "{stdout}");
+    let table = std::fs::read_to_string(out.join("table5.md")).unwrap();
+    assert!(table.contains("| ADRC-FOPID |"), "{table}");
+    for f in ["fig6_time_history.png", "fig7_spectrum.png"] {
+        let bytes = std::fs::read(out.join(f)).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{f}");
+    }
+    let run_csv = out.join("runs/adrc_fopid_seed01.csv");
+    let t = fmi_master::csv::read_csv(&run_csv).unwrap();
+    assert_eq!(t.names, vec!["time", "plant.x", "controller.u"]);
+    assert_eq!(t.columns[0].len(), 501, "0.05 s at the 0.1 ms CSV interval");
+    let summary = std::fs::read_to_string(out.join("runs_summary.csv")).unwrap();
+    assert_eq!(summary.lines().count(), 1 + 4 * 2, "{summary}");
+    std::fs::remove_dir_all(&out).unwrap();
+}

@@ -5,8 +5,9 @@
 
 use chatter_control::{ControllerParams, Structure};
 use milling_plant::PlantParams;
-use studies::fmu_validation::{closed_loop_system, cosim_growth_ratio};
+use studies::fmu_validation::FmuLoop;
 use studies::loop_frf;
+use studies::scenario::closed_loop_system;
 
 #[test]
 fn fmu_closed_loop_decays_3_percent_below_the_lobe_and_grows_3_percent_above() {
@@ -20,6 +21,7 @@ fn fmu_closed_loop_decays_3_percent_below_the_lobe_and_grows_3_percent_above() {
     // The FMU's default plant is the plant the lobes are computed for.
     let plant = loop_frf::seed_plant();
     assert_eq!(plant, PlantParams::default());
+    let fl = FmuLoop::new(&sys, &plant).unwrap();
     let with = |base: ControllerParams, s| ControllerParams { structure: s, ..base };
     let (t2, tuned) = (ControllerParams::paper_table2(), ControllerParams::default());
     let cases = [
@@ -34,8 +36,8 @@ fn fmu_closed_loop_decays_3_percent_below_the_lobe_and_grows_3_percent_above() {
     let mut failures = Vec::new();
     for (ctrl, rpm) in cases {
         let b = loop_frf::problem(&plant, ctrl.as_ref(), 1000.0).unwrap().critical_depth(rpm).depth;
-        let below = cosim_growth_ratio(&sys, ctrl.as_ref(), rpm, 0.97 * b, 1.5).unwrap();
-        let above = cosim_growth_ratio(&sys, ctrl.as_ref(), rpm, 1.03 * b, 1.5).unwrap();
+        let below = fl.growth_ratio(ctrl.as_ref(), rpm, 0.97 * b, 1.5).unwrap();
+        let above = fl.growth_ratio(ctrl.as_ref(), rpm, 1.03 * b, 1.5).unwrap();
         let name = ctrl.map_or(Structure::Off, |c| c.structure);
         eprintln!("{name:?} {rpm} rpm, b = {:.4} mm: growth ratio 0.97b {below:.4}, 1.03b {above:.4}", b * 1e3);
         if !(below < 1.0 && above > 1.0) {

@@ -40,7 +40,7 @@ pub fn closed_loop_ssp() -> SystemFile {
 pub fn closed_loop_embedded() -> SystemFile {
     packaged("MillingPlant.fmu");
     packaged("ChatterController.fmu");
-    SystemFile::from_text(fmi_master::CLOSED_LOOP_SSD, "embedded ClosedLoop.ssd", &fmu_dir())
+    SystemFile::from_text(packaging::CLOSED_LOOP_SSD, "packaging/scenarios/ClosedLoop.ssd", &fmu_dir())
         .expect("opening the embedded ClosedLoop.ssd")
 }
 

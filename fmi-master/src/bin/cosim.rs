@@ -3,24 +3,21 @@
 //! ```text
 //! cosim run [SYSTEM] [--set c.v=x]... [--stop-time T] [--step H] [--order gauss-seidel|jacobi]
 //!           [--record c.v,...] [--output-interval DT] [-o results.csv] [--fmu-dir DIR] [--preload LIB]
-//! cosim main-job [--out results] [--seeds 10] [--stop-time 30] ...
 //! cosim info FILE            # an .fmu's variables, or an .ssp/.ssd's structure
 //! cosim plot CSV [--var v]... [-o plot.png] [--spectrum 400] [--mark 133.3=tooth-passing]...
-//! cosim ssd                  # print the embedded closed-loop SystemStructure.ssd
+//! cosim ssd SYSTEM           # print a system's SystemStructure.ssd (as this master reads it)
 //! ```
-//! SYSTEM is an `.ssp`, an `.ssd` or a single `.fmu`; without it, the
-//! embedded closed loop (`scenarios/ClosedLoop.ssd`) runs with the FMUs of
-//! `--fmu-dir` (default `target/fmu`). Errors print a message (with the
+//! SYSTEM is an `.ssp`, an `.ssd` or a single `.fmu`; an `.ssd`'s component
+//! sources `resources/X.fmu` are looked up in `--fmu-dir` (default `$FMU_DIR`). Errors print a message (with the
 //! FMU's own log lines for FMU failures), each cause once, and exit with status 1.
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use fmi_master::engine::{Progress, RunConfig, Simulation};
-use fmi_master::mainjob::{self, MainJobConfig};
 use fmi_master::overrides::Override;
 use fmi_master::plot::Mark;
 use fmi_master::ssp::Order;
-use fmi_master::system::{SystemFile, default_fmu_dir};
+use fmi_master::system::SystemFile;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -35,8 +32,6 @@ struct Cli {
 enum Cmd {
     /// Run a system (.ssp, .ssd) or a single .fmu; results stream to CSV.
     Run(RunArgs),
-    /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7).
-    MainJob(MainJobArgs),
     /// Describe an .fmu (variables) or a system (.ssp/.ssd).
     Info {
         /// The file.
@@ -44,13 +39,18 @@ enum Cmd {
     },
     /// Plot columns of a results CSV (time histories, optionally spectra).
     Plot(PlotArgs),
-    /// Print the embedded closed-loop SystemStructure.ssd.
-    Ssd,
+    /// Print a system's SystemStructure.ssd as this master reads it (bindings resolved into it).
+    Ssd {
+        /// The .ssp or .ssd.
+        system: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
 }
 
 #[derive(Args, Clone)]
 struct Common {
-    /// Directory with the project's FMUs, for component sources `resources/X.fmu` (default: $FMU_DIR, else target/fmu).
+    /// Directory of the FMUs an .ssd names as `resources/X.fmu` (default: $FMU_DIR).
     #[arg(long)]
     fmu_dir: Option<PathBuf>,
     /// Load a shared library globally before any FMU (e.g. libpython for pythonfmu FMUs).
@@ -63,8 +63,8 @@ struct Common {
 
 #[derive(Args)]
 struct RunArgs {
-    /// .ssp, .ssd or .fmu (default: the embedded closed loop with the FMUs of --fmu-dir).
-    system: Option<PathBuf>,
+    /// .ssp, .ssd or .fmu.
+    system: PathBuf,
     /// Override a parameter or input start value: component.variable=value (repeatable).
     #[arg(long = "set", value_name = "COMPONENT.VARIABLE=VALUE")]
     set: Vec<String>,
@@ -100,42 +100,6 @@ struct RunArgs {
 }
 
 #[derive(Args)]
-struct MainJobArgs {
-    /// System to run (default: target/fmu/ClosedLoop.ssp if it exists, else the embedded SSD with --fmu-dir).
-    #[arg(long)]
-    system: Option<PathBuf>,
-    /// Output directory for CSVs, plots and the table.
-    #[arg(long, default_value = "results")]
-    out: PathBuf,
-    /// Number of noise seeds per controller.
-    #[arg(long, default_value_t = 10)]
-    seeds: u32,
-    /// First seed.
-    #[arg(long, default_value_t = 1)]
-    first_seed: u32,
-    /// Stop time [s] (default: the system's, 30 s).
-    #[arg(long)]
-    stop_time: Option<f64>,
-    /// Communication step [s] (default: the system's, 10 µs).
-    #[arg(long)]
-    step: Option<f64>,
-    /// Output interval of the per-run CSV files [s].
-    #[arg(long, default_value_t = 1e-3)]
-    csv_interval: f64,
-    /// Controller structures to compare, as label=item (items of the controller's structure enumeration).
-    #[arg(long, value_delimiter = ',', default_value = "Open loop=off,PID=pid,FOPID=fopid,ADRC-FOPID=adrc_fopid")]
-    cases: Vec<String>,
-    /// Extra overrides applied to every run (component.variable=value).
-    #[arg(long = "set")]
-    set: Vec<String>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    threads: Option<usize>,
-    #[command(flatten)]
-    common: Common,
-}
-
-#[derive(Args)]
 struct PlotArgs {
     /// A results CSV.
     csv: PathBuf,
@@ -164,17 +128,14 @@ fn overrides(list: &[String]) -> Result<Vec<Override>> {
     list.iter().map(|s| s.parse::<Override>().map_err(anyhow::Error::from)).collect()
 }
 
-fn open_system(path: Option<&PathBuf>, fmu_dir: Option<&PathBuf>) -> Result<SystemFile> {
-    let dir = fmu_dir.cloned().unwrap_or_else(default_fmu_dir);
-    Ok(match path {
-        Some(p) => SystemFile::open(p, Some(&dir))?,
-        None => SystemFile::from_text(fmi_master::CLOSED_LOOP_SSD, "embedded scenarios/ClosedLoop.ssd", &dir)?,
-    })
+fn open_system(path: &Path, fmu_dir: Option<&PathBuf>) -> Result<SystemFile> {
+    let dir = fmu_dir.cloned().or_else(|| std::env::var_os("FMU_DIR").map(PathBuf::from));
+    Ok(SystemFile::open(path, dir.as_deref())?)
 }
 
 fn run(a: RunArgs) -> Result<()> {
     preload(&a.common)?;
-    let sys = open_system(a.system.as_ref(), a.common.fmu_dir.as_ref())?;
+    let sys = open_system(&a.system, a.common.fmu_dir.as_ref())?;
     let order = match &a.order {
         None => None,
         Some(s) => Some(Order::parse(s).with_context(|| format!("--order {s}: expected gauss-seidel or jacobi"))?),
@@ -288,42 +249,6 @@ fn plot(a: PlotArgs) -> Result<()> {
     Ok(())
 }
 
-fn main_job(a: MainJobArgs) -> Result<()> {
-    preload(&a.common)?;
-    let fmu_dir = a.common.fmu_dir.clone().unwrap_or_else(default_fmu_dir);
-    let system = match &a.system {
-        Some(p) => Some(p.clone()),
-        None => {
-            let ssp = fmu_dir.join("ClosedLoop.ssp");
-            ssp.exists().then_some(ssp)
-        }
-    };
-    let sys = open_system(system.as_ref(), Some(&fmu_dir))?;
-    let mut cases = Vec::new();
-    for c in &a.cases {
-        let (label, item) = c.split_once('=').with_context(|| format!("--cases {c}: expected LABEL=ITEM"))?;
-        cases.push((label.to_string(), item.to_string()));
-    }
-    if let Some(n) = a.threads {
-        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("configuring the thread pool")?;
-    }
-    let cfg = MainJobConfig {
-        out: a.out.clone(),
-        seeds: (a.first_seed..a.first_seed + a.seeds).collect(),
-        stop: a.stop_time,
-        step: a.step,
-        csv_interval: a.csv_interval,
-        cases,
-        overrides: overrides(&a.set)?,
-        echo_fmu_log: a.common.fmu_log,
-    };
-    let report = mainjob::run(&sys, &cfg)?;
-    println!("{}", report.table_text);
-    println!("wrote {}", report.written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join("\n      "));
-    println!("total wall time: {:.1} s on {} threads", report.wall.as_secs_f64(), rayon::current_num_threads());
-    Ok(())
-}
-
 /// The error and its causes, `: `-separated, skipping a cause whose text the
 /// message already contains (an I/O error quoted by the error that wraps it).
 fn report(e: &anyhow::Error) -> String {
@@ -345,13 +270,11 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let r = match cli.cmd {
         Cmd::Run(a) => run(a),
-        Cmd::MainJob(a) => main_job(a),
         Cmd::Info { file } => info(&file),
         Cmd::Plot(a) => plot(a),
-        Cmd::Ssd => {
-            print!("{}", fmi_master::CLOSED_LOOP_SSD);
-            Ok(())
-        }
+        Cmd::Ssd { system, common } => open_system(&system, common.fmu_dir.as_ref())
+            .and_then(|sys| Ok(sys.desc.to_xml()?))
+            .map(|xml| print!("{xml}")),
     };
     match r {
         Ok(()) => ExitCode::SUCCESS,

@@ -299,7 +299,7 @@ fn assignments(
     for o in &cfg.overrides {
         let ctx = format!("--set {}={}", o.target, o.value);
         let (i, vname) = resolve_target(names, single, &o.target, "--set")?;
-        assign(i, vname, &ctx, &|md, v| overrides::parse_value(md, v, &o.value, &ctx))?;
+        assign(i, vname, &ctx, &|md, v| o.value_for(md, v, &ctx))?;
     }
     Ok(out)
 }

@@ -21,9 +21,10 @@ pub fn venv() -> PathBuf {
     v
 }
 
-/// The directory of the packaged FMUs (`target/fmu`, or `$FMU_DIR`).
+/// The directory of the project's packaged FMUs, the test fixtures of these tests: `$FMU_DIR`,
+/// else `target/fmu` of the workspace.
 pub fn fmu_dir() -> PathBuf {
-    fmi_master::system::default_fmu_dir()
+    std::env::var_os("FMU_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target").join("fmu"))
 }
 
 /// A file written by `cargo run --release -p packaging`; panics with instructions if it is missing.

@@ -1,6 +1,7 @@
 //! `chatter`: the studies of the seed papers (lobe diagrams, PSO tuning, tables, validation through the FMUs).
 //!
 //! ```text
+//! chatter main-job [--out results] [--seeds 10] [--stop-time 30] [--system X.ssp] ...
 //! chatter lobes  [--plant seed|ozsoy] [--controllers off,pid,fopid,adrc_fopid] [--pid kp,ki,kd]
 //!                  [--fopid kp,ki,kd,λ,μ] [--adrc kp,ki,kd,λ,μ] [--rpm-min 1000] [--rpm-max 3000]
 //!                  [--points 2001] [--out DIR]
@@ -17,6 +18,7 @@
 mod check;
 mod common;
 mod lobes;
+mod main_job;
 mod tables;
 mod tune;
 mod validate;
@@ -37,6 +39,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
+    MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
     Lobes(lobes::LobesArgs),
     /// PSO tuning (N runs per structure); best gains as JSON and CSV, Table A1 statistics.
@@ -52,6 +56,7 @@ enum Cmd {
 fn main() -> Result<()> {
     let cli = Cli::parse();
     match &cli.cmd {
+        Cmd::MainJob(a) => main_job::main_job(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::Tune(a) => tune::tune(a),
         Cmd::Tables(a) => tables::tables(a),

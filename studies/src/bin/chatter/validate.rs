@@ -36,7 +36,8 @@ pub fn validate(a: &ValidateArgs) -> Result<()> {
     use rayon::prelude::*;
     let plant = PlantParams::default();
     let dir = a.fmu_dir.clone().unwrap_or_else(packaging::fmu_dir);
-    let sys = studies::fmu_validation::closed_loop_system(&dir)?;
+    let sys = studies::scenario::closed_loop_system(&dir)?;
+    let fl = studies::fmu_validation::FmuLoop::new(&sys, &plant)?;
     let mut points = Vec::new();
     for name in &a.controllers {
         let c = controller(structure_by_name(name)?, &a.gains)?;
@@ -55,9 +56,9 @@ pub fn validate(a: &ValidateArgs) -> Result<()> {
         .par_iter()
         .map(|(name, c, rpm, b)| {
             let ctrl = (c.structure != Structure::Off).then_some(c);
-            let td =
-                studies::fmu_validation::time_domain_boundary(&sys, ctrl, *rpm, (0.9 * b, 1.1 * b), a.duration, a.tol)
-                    .with_context(|| format!("{name} at {rpm} rpm"))?;
+            let td = fl
+                .boundary(ctrl, *rpm, (0.9 * b, 1.1 * b), a.duration, a.tol)
+                .with_context(|| format!("{name} at {rpm} rpm"))?;
             bar.inc(1);
             Ok(format!("| {name} | {rpm:.1} | {:.4} | {:.4} | {:+.2} |", b * 1e3, td * 1e3, (td / b - 1.0) * 100.0))
         })

@@ -71,7 +71,7 @@ fn main() {
     // `cargo bench` passes --bench; `cargo test --benches` passes nothing special: run quickly then.
     let quick = !std::env::args().any(|a| a == "--bench");
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf();
-    let ssp = fmi_master::system::default_fmu_dir().join("ClosedLoop.ssp");
+    let ssp = packaging::fmu_dir().join("ClosedLoop.ssp");
     if !ssp.is_file() {
         eprintln!("{} is missing: run `cargo run --release -p packaging` first", ssp.display());
         std::process::exit(1);

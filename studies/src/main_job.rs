@@ -3,12 +3,14 @@
 //! controller structure over several noise seeds, in parallel (rayon; every
 //! run opens its own FMU instances), compared with the seed's Table 5.
 //!
-//! Names come from the system, not from this code: the controller is the
-//! component with an enumeration parameter `structure`; the measured signal
-//! is the output connected to the controller's input and the command the
-//! controller's output connected to the plant; the noise seed is the
-//! plant's Integer parameter named `seed` (or `*.seed`). All of these can be
-//! overridden in [`MainJobConfig`].
+//! The system is the project's closed loop (`ClosedLoop.ssp` or another SSP
+//! over the same FMUs): the plant is the component whose FMU is
+//! `MillingPlant`, the controller the one whose FMU is `ChatterController`
+//! (by `modelIdentifier`), and every value the job sets (structure, noise
+//! seed) goes through the adapters' variable tables as a typed value. The
+//! reference frequencies of the spectra come from the plant's parameters as
+//! the run sees them (defaults, SSP bindings, `--set`), resolved with the
+//! plant FMU's own table.
 //!
 //! Per run: RMS of the measured signal over every communication point of
 //! `(t0, T]` (3 million values for 30 s), the spectral peaks near the
@@ -17,16 +19,16 @@
 //! Figure 6/7 plots. Reduction versus open loop is paired by seed:
 //! `1 − RMS_c(s)/RMS_ol(s)`, then mean ± sample standard deviation (n − 1).
 
-use crate::csv::CsvWriter;
-use crate::engine::{Observer, Progress, RunConfig, Simulation};
-use crate::error::SimError;
-use crate::import::Fmu;
-use crate::overrides::Override;
-use crate::plot::{Envelope, Mark, Panel};
-use crate::spectrum::{Spectrum, single_sided};
-use crate::system::SystemFile;
-use anyhow::{Context, Result, bail};
-use model_description::{Causality, ScalarType};
+use crate::StudyError;
+use crate::fmu_params;
+use crate::scenario::{Roles, roles};
+use chatter_control::Structure;
+use fmi_master::csv::CsvWriter;
+use fmi_master::plot::{Envelope, Mark, Panel};
+use fmi_master::spectrum::{Spectrum, single_sided};
+use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
+use model_description::Value;
+use model_kit::Choice;
 use rayon::prelude::*;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -56,85 +58,15 @@ pub struct MainJobConfig {
     pub step: Option<f64>,
     /// Output interval of the per-run CSV files.
     pub csv_interval: f64,
-    /// (label, structure enumeration item); the first is the reference (open loop).
-    pub cases: Vec<(String, String)>,
+    /// (label, controller structure); the first is the reference (open loop).
+    pub cases: Vec<(String, Structure)>,
     /// Extra overrides for every run.
     pub overrides: Vec<Override>,
     /// Echo FMU logs.
     pub echo_fmu_log: bool,
 }
 
-/// Roles of the system's variables, discovered from the SSD and the FMUs.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Roles {
-    /// `controller.structure`.
-    pub structure: String,
-    /// `plant.seed`.
-    pub seed: String,
-    /// The measured output (`plant.x`), recorded and evaluated.
-    pub measured: String,
-    /// The command (`controller.u`), recorded.
-    pub command: String,
-    /// Plant component name.
-    pub plant: String,
-}
-
-/// Find the roles from the system description and the FMUs' variables.
-pub fn discover_roles(sys: &SystemFile) -> Result<Roles> {
-    let d = &sys.desc;
-    let mut mds = Vec::new();
-    for c in &d.components {
-        let fmu = Fmu::open(&sys.fmu_path(c)?)?;
-        mds.push((c.name.clone(), fmu.model_description().clone()));
-    }
-    let controllers: Vec<&String> = mds
-        .iter()
-        .filter(|(_, md)| {
-            md.variable("structure")
-                .is_some_and(|v| v.scalar_type() == ScalarType::Enumeration && v.causality == Causality::Parameter)
-        })
-        .map(|(n, _)| n)
-        .collect();
-    let controller = match controllers.as_slice() {
-        [c] => (*c).clone(),
-        [] => bail!("no component has an enumeration parameter 'structure' (the controller's structure)"),
-        _ => bail!("several components have a 'structure' parameter: {controllers:?}"),
-    };
-    let into_ctrl: Vec<_> =
-        d.connections.iter().filter(|c| c.end_element.as_deref() == Some(controller.as_str())).collect();
-    let from_ctrl: Vec<_> =
-        d.connections.iter().filter(|c| c.start_element.as_deref() == Some(controller.as_str())).collect();
-    let [feedback] = into_ctrl.as_slice() else {
-        bail!("expected exactly one connection into the controller {controller}, found {}", into_ctrl.len())
-    };
-    let [command] = from_ctrl.as_slice() else {
-        bail!("expected exactly one connection out of the controller {controller}, found {}", from_ctrl.len())
-    };
-    let plant = feedback.start_element.clone().context("feedback connection without a start element")?;
-    let plant_md = &mds.iter().find(|(n, _)| *n == plant).context("plant component")?.1;
-    let seeds: Vec<&str> = plant_md
-        .variables()
-        .iter()
-        .filter(|v| {
-            (v.name == "seed" || v.name.ends_with(".seed") || v.name.ends_with("_seed"))
-                && v.scalar_type() == ScalarType::Integer
-                && v.causality == Causality::Parameter
-        })
-        .map(|v| v.name.as_str())
-        .collect();
-    let seed = match seeds.as_slice() {
-        [s] => format!("{plant}.{s}"),
-        [] => bail!("the plant {plant} has no Integer parameter named seed (or *.seed)"),
-        _ => bail!("the plant {plant} has several seed parameters: {seeds:?}"),
-    };
-    Ok(Roles {
-        structure: format!("{controller}.structure"),
-        seed,
-        measured: format!("{plant}.{}", feedback.start_connector),
-        command: format!("{controller}.{}", command.start_connector),
-        plant,
-    })
-}
+type Result<T> = std::result::Result<T, StudyError>;
 
 /// Reference frequencies of the plant [Hz]: tooth passing, first natural frequency, sinusoidal disturbance.
 type RefFreqs = (Option<f64>, Option<f64>, Option<f64>);
@@ -179,10 +111,10 @@ struct JobObserver {
 }
 
 impl Observer for JobObserver {
-    fn start(&mut self, names: &[String]) -> Result<(), SimError> {
+    fn start(&mut self, names: &[String]) -> std::result::Result<(), SimError> {
         self.csv.start(names)
     }
-    fn sample(&mut self, t: f64, v: &[f64]) -> Result<(), SimError> {
+    fn sample(&mut self, t: f64, v: &[f64]) -> std::result::Result<(), SimError> {
         let i = self.count;
         self.count += 1;
         if i.is_multiple_of(self.csv_every) {
@@ -203,7 +135,7 @@ impl Observer for JobObserver {
         }
         Ok(())
     }
-    fn finish(&mut self) -> Result<(), SimError> {
+    fn finish(&mut self) -> std::result::Result<(), SimError> {
         self.csv.finish()
     }
 }
@@ -212,58 +144,44 @@ fn slug(s: &str) -> String {
     s.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect()
 }
 
-/// Reference frequencies of the plant for the spectrum marks: tooth passing
-/// `Z·N/60` and first natural frequency `√(K/M)/2π`, read from the plant's
-/// parameters when it declares them (names tried in order), plus the
-/// sinusoidal disturbance if its amplitude is non-zero.
-fn reference_frequencies(sim: &mut Simulation, plant: &str) -> RefFreqs {
-    let mut get = |names: &[&str]| names.iter().find_map(|n| sim.get_number(plant, n).ok());
-    let speed = get(&["spindle_speed", "cutting.spindle_speed", "N"]);
-    let teeth = get(&["teeth", "cutting.teeth", "Z", "n_teeth"]);
-    let mass = get(&["workpiece.mass", "Mw", "mass", "m"]);
-    let stiffness = get(&["workpiece.stiffness", "Kw", "stiffness", "k"]);
-    let dist_amp = get(&["disturbance.sine_amplitude", "sine_amplitude", "disturbance.amplitude"]);
-    let dist_freq = get(&["disturbance.sine_frequency", "sine_frequency", "disturbance.frequency"]);
-    let tooth = match (speed, teeth) {
-        (Some(n), Some(z)) => Some(z * n / 60.0),
-        _ => None,
-    };
-    let natural = match (mass, stiffness) {
-        (Some(m), Some(k)) if m > 0.0 => Some((k / m).sqrt() / (2.0 * std::f64::consts::PI)),
-        _ => None,
-    };
-    let dist = match (dist_amp, dist_freq) {
-        (Some(a), Some(f)) if a != 0.0 => Some(f),
-        _ => None,
-    };
-    (tooth, natural, dist)
+/// Reference frequencies of the plant for the spectrum marks: tooth passing `Z·N/60`, first
+/// natural frequency `√(K/M)/2π`, and the sinusoidal disturbance if its amplitude is non-zero,
+/// from the plant's parameters as this run sets them.
+fn reference_frequencies(sys: &SystemFile, roles: &Roles, overrides: &[Override]) -> Result<RefFreqs> {
+    let r = fmu_params::resolve(&fmu_plant::TABLE, sys, &roles.plant, overrides)?;
+    let (p, rpm) = (&r.params, r.inputs.spindle_speed_rpm);
+    let tooth = f64::from(p.cutting.teeth) * rpm / 60.0;
+    let natural = p.workpiece.first.frequency_hz();
+    let d = &p.disturbance;
+    let dist = (d.sine_amplitude != 0.0).then_some(d.sine_frequency);
+    Ok((Some(tooth), Some(natural), dist))
 }
 
 fn run_one(
     sys: &SystemFile,
     cfg: &MainJobConfig,
     roles: &Roles,
-    case: &(String, String),
+    case: &(String, Structure),
     seed: u32,
     keep_plot: bool,
     progress: Progress,
 ) -> Result<(RunResult, RefFreqs)> {
     let mut overrides = vec![
-        Override { target: roles.structure.clone(), value: case.1.clone() },
-        Override { target: roles.seed.clone(), value: seed.to_string() },
+        Override::typed(format!("{}.structure", roles.controller), Value::Integer(case.1.index())),
+        Override::typed(format!("{}.seed", roles.plant), Value::Integer(seed as i32)),
     ];
     overrides.extend(cfg.overrides.iter().cloned());
+    let (tooth, natural, dist) = reference_frequencies(sys, roles, &overrides)?;
     let rc = RunConfig {
         stop: cfg.stop,
         step: cfg.step,
         overrides,
-        record: Some(vec![roles.measured.clone(), roles.command.clone()]),
+        record: Some(vec![roles.measured(), roles.command()]),
         output_interval: None,
         echo_fmu_log: cfg.echo_fmu_log,
         ..RunConfig::default()
     };
     let mut sim = Simulation::new(sys, &rc)?;
-    let (tooth, natural, dist) = reference_frequencies(&mut sim, &roles.plant);
     let h = sim.step();
     let csv_every = ((cfg.csv_interval / h).round() as u64).max(1);
     // Spectrum at ≥ 10 kHz sampling: no aliasing into 0–400 Hz from a plant
@@ -284,7 +202,8 @@ fn run_one(
         spec: Vec::with_capacity((sim.n_steps() / spec_every) as usize + 1),
         env: keep_plot.then(|| Envelope::new(t0, t1, 1400)),
     };
-    let stats = sim.run(&mut obs, progress).with_context(|| format!("run {} (seed {seed})", case.0))?;
+    let stats =
+        sim.run(&mut obs, progress).map_err(|e| StudyError::from(e).within(format!("run {} (seed {seed})", case.0)))?;
     let rms = (obs.sumsq / obs.n as f64).sqrt();
     let spectrum = single_sided(&obs.spec, 1.0 / (h * spec_every as f64)).up_to(400.0);
     let peak = |f: Option<f64>, w: f64| f.and_then(|f| spectrum.peak_in(f - w, f + w)).map(|p| p.1).unwrap_or(f64::NAN);
@@ -316,20 +235,17 @@ pub struct Report {
     pub wall: Duration,
 }
 
-/// Mean and sample standard deviation.
-pub fn mean_std(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let m = x.iter().sum::<f64>() / n;
-    let s = if x.len() > 1 { (x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt() } else { 0.0 };
-    (m, s)
-}
+use crate::tuning::mean_std;
 
 /// Run the main job.
 pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
     let began = Instant::now();
-    anyhow::ensure!(!cfg.cases.is_empty() && !cfg.seeds.is_empty(), "no cases or no seeds");
-    let roles = discover_roles(sys)?;
-    std::fs::create_dir_all(cfg.out.join("runs")).with_context(|| format!("creating {}", cfg.out.display()))?;
+    if cfg.cases.is_empty() || cfg.seeds.is_empty() {
+        return Err(StudyError::Invalid("the main job needs at least one case and one seed".into()));
+    }
+    let roles = roles(sys)?;
+    let runs_dir = cfg.out.join("runs");
+    std::fs::create_dir_all(&runs_dir).map_err(|e| StudyError::io(&runs_dir, e))?;
     let jobs: Vec<(usize, u32)> = (0..cfg.cases.len()).flat_map(|c| cfg.seeds.iter().map(move |&s| (c, s))).collect();
     // Total steps for the shared progress bar (known after loading one run: use the system's settings).
     let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
@@ -412,7 +328,7 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
                 r.wall.as_secs_f64()
             ));
         }
-        std::fs::write(&summary, s).with_context(|| format!("writing {}", summary.display()))?;
+        std::fs::write(&summary, s).map_err(|e| StudyError::io(&summary, e))?;
         written.push(summary);
     }
     // Table.
@@ -474,7 +390,7 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
     }
     let table_text = lines.join("\n");
     let table = cfg.out.join("table5.md");
-    std::fs::write(&table, format!("{table_text}\n")).with_context(|| format!("writing {}", table.display()))?;
+    std::fs::write(&table, format!("{table_text}\n")).map_err(|e| StudyError::io(&table, e))?;
     written.push(table);
     // Figures 6 and 7 from the first seed.
     let firsts: Vec<(&String, &(Envelope, Spectrum))> = cfg
@@ -490,9 +406,9 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
         let fig6 = cfg.out.join("fig6_time_history.png");
         let panels: Vec<Panel<'_, Envelope>> =
             firsts.iter().map(|(l, (e, _))| Panel { title: format!("{l} (seed {first_seed})"), data: e }).collect();
-        crate::plot::time_histories(
+        fmi_master::plot::time_histories(
             &fig6,
-            &format!("Tip displacement {} (cf. seed Figure 6)", roles.measured),
+            &format!("Tip displacement {} (cf. seed Figure 6)", roles.measured()),
             &panels,
             1e6,
             "x [µm]",
@@ -511,7 +427,7 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
         }
         let panels: Vec<Panel<'_, Spectrum>> =
             firsts.iter().map(|(l, (_, s))| Panel { title: format!("{l} (seed {first_seed})"), data: s }).collect();
-        crate::plot::spectra(
+        fmi_master::plot::spectra(
             &fig7,
             "Single-sided amplitude spectrum |P1(f)| of the tip displacement (cf. seed Figure 7)",
             &panels,
