@@ -78,6 +78,21 @@ pub fn fmu_dir() -> PathBuf {
     }
 }
 
+/// A file of [`fmu_dir`] (`MillingPlant.fmu`, `ClosedLoop.ssp`, …).
+///
+/// # Panics
+/// With instructions when it is missing: for tests and tools that need the packaged FMUs.
+pub fn packaged(file: &str) -> PathBuf {
+    let p = fmu_dir().join(file);
+    assert!(
+        p.is_file(),
+        "{} is missing: build the FMUs first with `cargo run --release -p packaging` \
+         (tests/run_all.sh does this before `cargo test`)",
+        p.display()
+    );
+    p
+}
+
 /// Build the product cdylibs in release mode.
 pub fn build_cdylibs() -> Result<()> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());

@@ -16,20 +16,8 @@ pub fn workspace_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("tests/ sits in the workspace").to_path_buf()
 }
 
-pub use packaging::fmu_dir;
-
-/// Path of a packaged file (`MillingPlant.fmu`, `ChatterController.fmu`,
-/// `ClosedLoop.ssp`); panics with instructions if it is missing.
-pub fn packaged(file: &str) -> PathBuf {
-    let p = fmu_dir().join(file);
-    assert!(
-        p.is_file(),
-        "{} is missing: build the FMUs first with `cargo run --release -p packaging` \
-         (tests/run_all.sh does this before `cargo test`)",
-        p.display()
-    );
-    p
-}
+/// The project's packaged FMUs (the fixtures of these tests): where they are, and one of them.
+pub use packaging::{fmu_dir, packaged};
 
 /// The shipped closed-loop system `target/fmu/ClosedLoop.ssp`.
 pub fn closed_loop_ssp() -> SystemFile {

@@ -38,6 +38,7 @@ const LONG_FILES: &[(&str, &str)] = &[
         "the C boundary: every unsafe block of the export side, one `with` pattern per fmi2 function",
     ),
     ("fmi2-export/src/instance.rs", "one algorithm: the FMI 2.0 state machine and its variable rules"),
+    ("studies/src/lobes.rs", "one algorithm: the exact zero-order lobe solver with its tests"),
 ];
 
 fn root() -> PathBuf {

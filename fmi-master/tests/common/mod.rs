@@ -21,23 +21,9 @@ pub fn venv() -> PathBuf {
     v
 }
 
-/// The directory of the project's packaged FMUs, the test fixtures of these tests: `$FMU_DIR`,
-/// else `target/fmu` of the workspace.
-pub fn fmu_dir() -> PathBuf {
-    std::env::var_os("FMU_DIR").map(PathBuf::from).unwrap_or_else(|| workspace_root().join("target").join("fmu"))
-}
-
-/// A file written by `cargo run --release -p packaging`; panics with instructions if it is missing.
-pub fn packaged(file: &str) -> PathBuf {
-    let p = fmu_dir().join(file);
-    assert!(
-        p.is_file(),
-        "{} is missing: build the FMUs first with `cargo run --release -p packaging` \
-         (tests/run_all.sh does this before `cargo test`)",
-        p.display()
-    );
-    p
-}
+/// The project's packaged FMUs (the fixtures of these tests): where they are, and one of them.
+#[allow(unused_imports)] // not every test file uses both
+pub use packaging::{fmu_dir, packaged};
 
 /// The cosim binary built by cargo for this test run.
 pub fn cosim() -> Command {
