@@ -12,15 +12,22 @@
 //! 1 + a·K_t·α₀·f(ω) = 0,      f(ω) = (1 − e^{−iωτ})·Φ(iω)
 //! ```
 //!
-//! requires `f(ω)` real and negative, and then `a = −1/(K_t α₀ Re f)`. Writing
+//! requires `f(ω)` real with `α₀·Re f < 0`, and then `a = −1/(K_t α₀ Re f)`. Writing
 //! `1 − e^{−iθ} = 2 sin(θ/2)·e^{i(π/2 − θ/2)}` (θ = ωτ) and `g(ω) = ωτ/2 − arg Φ − π/2`:
 //!
 //! ```text
 //! Im f = −2 sin(θ/2)·|Φ|·sin g,     Re f = 2 sin(θ/2)·|Φ|·cos g
 //! ```
 //!
-//! so the roots are `g(ω) = jπ` with `sin(θ/2)·(−1)^j < 0`, and there
-//! `a = 1/(2 K_t α₀ |sin(θ/2)| |Φ|) = −1/(2 K_t α₀ Re Φ)` (the classic result).
+//! so the roots are `g(ω) = jπ` with `sign(α₀)·sin(θ/2)·(−1)^j < 0`, and there
+//! `a = 1/(2 K_t |α₀| |sin(θ/2)| |Φ|) = −1/(2 K_t α₀ Re Φ)` (the classic result).
+//!
+//! **Both signs of α₀.** With `α₀ > 0` (e.g. up-milling along the flexible direction) chatter
+//! needs `Re Φ < 0`, above the mode, and an SDOF's minimum depth is `2kζ(1+ζ)/(K_t α₀)`. With
+//! `α₀ < 0` (the flexible direction normal to the feed in up-milling, or low-immersion
+//! down-milling) the regenerative force pushes the other way: chatter needs `Re Φ > 0`, below
+//! the mode, and the minimum is `2kζ(1−ζ)/(K_t |α₀|)`. Only `α₀ = 0` (no regenerative force
+//! along the flexible direction) is unconditionally stable.
 //!
 //! # Two methods
 //!
@@ -308,11 +315,12 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
     pub fn critical_depth(&self, rpm: f64) -> CriticalPoint {
         let none = CriticalPoint { rpm, depth: f64::INFINITY, chatter_hz: f64::NAN };
         let c = &self.cutting;
-        if c.alpha0 <= 0.0 || rpm.is_nan() || rpm <= 0.0 {
+        if c.alpha0 == 0.0 || rpm.is_nan() || rpm <= 0.0 {
             return none;
         }
         let tau = c.delay(rpm);
-        let scale = 2.0 * c.kt * c.alpha0;
+        let scale = 2.0 * c.kt * c.alpha0.abs();
+        let side = c.alpha0.signum();
         let g = &self.grid;
         let gfun = |i: usize| g.omega[i] * tau / 2.0 - g.phase[i] - PI / 2.0;
         // candidates (estimated depth, bracket index)
@@ -327,7 +335,7 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
                     let w = g.omega[i] + t * (g.omega[i + 1] - g.omega[i]);
                     let s_half = (w * tau / 2.0).sin();
                     let sign = if j.rem_euclid(2) == 0 { 1.0 } else { -1.0 };
-                    if s_half * sign < 0.0 {
+                    if side * s_half * sign < 0.0 {
                         let mag = g.frf[i].norm().powf(1.0 - t) * g.frf[i + 1].norm().powf(t);
                         cands.push((1.0 / (scale * s_half.abs() * mag), i));
                     }
@@ -396,10 +404,8 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
         }
         let phi = (self.frf)(w);
         let f = (Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau)) * phi;
-        if f.re >= 0.0 {
-            return None;
-        }
-        Some((w, -1.0 / (self.cutting.kt * self.cutting.alpha0 * f.re)))
+        let depth = -1.0 / (self.cutting.kt * self.cutting.alpha0 * f.re);
+        (depth > 0.0 && depth.is_finite()).then_some((w, depth))
     }
 
     /// Critical depths on a speed grid (parallel over speeds).
@@ -439,9 +445,11 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
         Some(Extremes { min: refine(imin, 1.0), max: refine(imax, -1.0) })
     }
 
-    /// Classic lobes `k = 0..=k_max` from every grid frequency with `Re Φ < 0`.
+    /// Classic lobes `k = 0..=k_max` from every grid frequency with `α₀ Re Φ < 0`. For `α₀ < 0`
+    /// the equation is that of `|α₀|` with `−Φ`, so the same construction runs on `−Φ`.
     pub fn classic_lobes(&self, k_max: u32) -> Vec<Lobe> {
         let c = &self.cutting;
+        let side = c.alpha0.signum();
         (0..=k_max)
             .map(|k| {
                 let points = self
@@ -449,9 +457,10 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
                     .omega
                     .iter()
                     .zip(&self.grid.frf)
-                    .filter(|(_, p)| p.re < 0.0 && c.alpha0 > 0.0)
+                    .map(|(w, p)| (w, *p * side))
+                    .filter(|(_, p)| p.re < 0.0)
                     .map(|(&w, p)| {
-                        let depth = -1.0 / (2.0 * c.kt * c.alpha0 * p.re);
+                        let depth = -1.0 / (2.0 * c.kt * c.alpha0.abs() * p.re);
                         let eps = 2.0 * (-p.re).atan2(p.im);
                         let rpm = 60.0 * w / (c.teeth as f64 * (2.0 * PI * k as f64 + eps));
                         (rpm, depth, w / (2.0 * PI))
@@ -593,10 +602,41 @@ mod tests {
     }
 
     #[test]
-    fn negative_alpha0_is_unconditionally_stable() {
-        let mut c = cutting();
-        c.alpha0 = -0.2;
-        let p = LobeProblem::new(sdof(M, K, ZETA), c, &GridOptions::new(10.0, 2000.0, 4, 1000.0)).unwrap();
+    fn the_minimum_is_analytic_for_both_signs_of_alpha0_and_zero_is_stable() {
+        let grid = GridOptions::new(10.0, 2000.0, 4, 1000.0);
+        for alpha0 in [0.4563, 0.2, -0.18, -0.4563] {
+            let c = Cutting { alpha0, ..cutting() };
+            let p = LobeProblem::new(sdof(M, K, ZETA), c, &grid).unwrap();
+            let ex = p.extremes(&p.diagram(&speed_grid(1000.0, 3000.0, 2001))).unwrap();
+            let analytic = if alpha0 > 0.0 {
+                2.0 * K * ZETA * (1.0 + ZETA) / (c.kt * alpha0)
+            } else {
+                2.0 * K * ZETA * (1.0 - ZETA) / (c.kt * alpha0.abs())
+            };
+            assert_relative_eq!(ex.min.depth, analytic, max_relative = 1e-3);
+            // chatter above the mode for α₀ > 0, below it for α₀ < 0
+            let f_n = (K / M).sqrt() / (2.0 * PI);
+            assert_eq!(ex.min.chatter_hz > f_n, alpha0 > 0.0, "α₀ {alpha0}: {} Hz vs {f_n} Hz", ex.min.chatter_hz);
+            // the classic construction agrees on its lowest point
+            let classic_min =
+                p.classic_lobes(3).iter().flat_map(|l| l.points.iter()).map(|q| q.1).fold(f64::INFINITY, f64::min);
+            assert_relative_eq!(classic_min, analytic, max_relative = 2e-3);
+        }
+        let c = Cutting { alpha0: 0.0, ..cutting() };
+        let p = LobeProblem::new(sdof(M, K, ZETA), c, &grid).unwrap();
         assert!(p.critical_depth(2000.0).depth.is_infinite());
+    }
+
+    /// The example of the review: the seed plant bending normal to the feed (β = 90°),
+    /// up-milling, α₀ = −0.180: the zero-order depth at 1691 rpm is 3.06 mm (the plant's own
+    /// averaged model decays at 2.75 mm and grows at 3.4 mm).
+    #[test]
+    fn normal_to_the_feed_up_milling_has_a_finite_limit() {
+        let mut plant = milling_plant::PlantParams::default();
+        plant.cutting.direction_angle = PI / 2.0;
+        let p = crate::loop_frf::problem(&plant, None, 1000.0).unwrap();
+        assert_relative_eq!(plant.directional_coefficient(), -0.180, max_relative = 5e-3);
+        let b = p.critical_depth(1691.0).depth;
+        assert!((b * 1e3 - 3.06).abs() < 0.03, "b_lim(1691 rpm) = {} mm", b * 1e3);
     }
 }

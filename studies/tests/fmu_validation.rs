@@ -46,3 +46,43 @@ fn fmu_closed_loop_decays_3_percent_below_the_lobe_and_grows_3_percent_above() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// The lobes for a negative directional factor α₀ (chatter below the mode) agree with the FMU
+/// time domain: the seed plant bending normal to the feed in up-milling (α₀ = −0.180) and along
+/// the feed in low-immersion down-milling (a_e = 2 mm of R = 8 mm, α₀ = −0.119), open loop and
+/// with the shipped FOPID, each at its own lobe minimum over 1000–3000 rpm. The FMU gets the
+/// same machine as the lobes, parameter by parameter.
+#[test]
+fn negative_directional_factor_cases_decay_below_and_grow_above_the_lobe() {
+    let sys = closed_loop_system(&packaging::fmu_dir()).unwrap();
+    let mut normal = PlantParams::default();
+    normal.cutting.direction_angle = std::f64::consts::FRAC_PI_2;
+    let mut down = PlantParams::default();
+    down.cutting.milling = milling_plant::MillingMode::Down;
+    down.cutting.radial_engagement = 2e-3;
+    let fopid = ControllerParams { structure: Structure::Fopid, ..ControllerParams::default() };
+    let mut failures = Vec::new();
+    for plant in [normal, down] {
+        assert!(plant.directional_coefficient() < -0.1, "α₀ = {}", plant.directional_coefficient());
+        let fl = FmuLoop::new(&sys, &plant).unwrap();
+        for ctrl in [None, Some(fopid)] {
+            let prob = loop_frf::problem(&plant, ctrl.as_ref(), 1000.0).unwrap();
+            let ex = prob.extremes(&prob.diagram(&studies::lobes::speed_grid(1000.0, 3000.0, 401))).unwrap();
+            let (rpm, b) = (ex.min.rpm, ex.min.depth);
+            let below = fl.growth_ratio(ctrl.as_ref(), rpm, 0.97 * b, 1.5).unwrap();
+            let above = fl.growth_ratio(ctrl.as_ref(), rpm, 1.03 * b, 1.5).unwrap();
+            let what = format!(
+                "α₀ {:.3}, {:?}, {rpm:.1} rpm, b = {:.4} mm ({:.1} Hz): ratio 0.97b {below:.4}, 1.03b {above:.4}",
+                plant.directional_coefficient(),
+                ctrl.map_or(Structure::Off, |c| c.structure),
+                b * 1e3,
+                ex.min.chatter_hz
+            );
+            eprintln!("{what}");
+            if !(below < 1.0 && above > 1.0) {
+                failures.push(what);
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
