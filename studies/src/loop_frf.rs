@@ -205,3 +205,44 @@ mod decay_tests {
         assert!(!r.stable, "{r:?}");
     }
 }
+
+#[cfg(test)]
+mod spillover_tests {
+    use super::*;
+
+    fn spillover(c: &ControllerParams) -> [f64; 2] {
+        let mut plant = seed_plant();
+        plant.workpiece.modes = 3;
+        let first = plant.workpiece.first;
+        plant.workpiece.higher.map(|m| {
+            let w = m.omega_n();
+            let e = plant.receptance(w) - first.receptance(w);
+            (plant.actuator_response(w) * c.frequency_response(w) * e).norm()
+        })
+    }
+
+    /// Seed 000, Section 3.1: the spillover norm `|G_act(jω) K(jω) E(jω)|` of the truncated modes
+    /// (`E = G − G1`, the Table 1 actuator, the controller core's discrete response — the same
+    /// coefficients the FMU steps) at the second and third modes. The seed reports 1.5e-4 and
+    /// 2.2e-5 for its Table 2 ADRC-FOPID. With Table 2 read in SI (`chatter_control::params`)
+    /// the ESO's `−z3/b0` term is a stiff high-frequency gain (≈ 7.7e7 N/m at 896 Hz) and the
+    /// norm at the second mode is about 4: far above 1, consistent with the spillover chatter
+    /// at 932 Hz that the 3-mode lobes find for these gains (README). The seed's value cannot
+    /// come from its own parameters; this test pins our number so a change is noticed.
+    #[test]
+    fn spillover_into_the_truncated_modes() {
+        let [f2, f3] = spillover(&ControllerParams::paper_table2());
+        eprintln!("Table 2 ADRC-FOPID: spillover {f2:.3e} at f2, {f3:.3e} at f3");
+        assert!((4.0..4.3).contains(&f2), "f2: {f2}");
+        assert!(f3 < f2, "f3: {f3}");
+        // the PID and FOPID of Table 2 stay below 1 (0.057 and 0.28 at f2: the derivative terms)
+        for s in [Structure::Pid, Structure::Fopid] {
+            let [a, b] = spillover(&ControllerParams { structure: s, ..ControllerParams::paper_table2() });
+            eprintln!("Table 2 {s:?}: spillover {a:.3e} at f2, {b:.3e} at f3");
+            assert!(a < 0.5 && b < 0.5, "{s:?}: {a}, {b}");
+        }
+        // ω_o / ω_2 = 0.48 (Section 3.1)
+        let ratio = ControllerParams::paper_table2().adrc.omega_o / seed_plant().workpiece.higher[0].omega_n();
+        assert!((ratio - 0.48).abs() < 0.005, "ω_o/ω_2 = {ratio}");
+    }
+}
