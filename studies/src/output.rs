@@ -18,29 +18,37 @@ pub struct Series {
     pub points: Vec<CriticalPoint>,
 }
 
-/// CSV text: `rpm,<name>_depth_mm,<name>_chatter_hz,...` (all series on the same speed grid;
-/// an infinite depth is written as `inf`).
+/// CSV text: `rpm,b_lim_mm_<name>,...` then `f_chatter_hz_<name>,...` (all series on the same
+/// speed grid; an infinite depth, no chatter root in the band, is written as `inf`).
 pub fn diagrams_csv(series: &[Series]) -> String {
     let mut s = String::from("rpm");
     for se in series {
-        let _ = write!(s, ",{0}_depth_mm,{0}_chatter_hz", se.name);
+        let _ = write!(s, ",b_lim_mm_{}", se.name);
+    }
+    for se in series {
+        let _ = write!(s, ",f_chatter_hz_{}", se.name);
     }
     s.push('\n');
     let n = series.first().map_or(0, |s| s.points.len());
     for i in 0..n {
         let _ = write!(s, "{:.4}", series[0].points[i].rpm);
         for se in series {
-            let p = se.points[i];
-            let _ = write!(s, ",{:.6},{:.4}", p.depth * 1e3, p.chatter_hz);
+            let _ = write!(s, ",{:.6}", se.points[i].depth * 1e3);
+        }
+        for se in series {
+            let _ = write!(s, ",{:.4}", se.points[i].chatter_hz);
         }
         s.push('\n');
     }
     s
 }
 
-/// Write [`diagrams_csv`] to a file.
+/// Write [`diagrams_csv`] to a file, atomically: a reader never sees a partial file under the
+/// final name.
 pub fn write_csv(path: &Path, series: &[Series]) -> Result<(), crate::StudyError> {
-    std::fs::write(path, diagrams_csv(series)).map_err(|error| crate::StudyError::io(path, error))
+    let tmp = path.with_extension("csv.partial");
+    std::fs::write(&tmp, diagrams_csv(series)).map_err(|error| crate::StudyError::io(&tmp, error))?;
+    std::fs::rename(&tmp, path).map_err(|error| crate::StudyError::io(path, error))
 }
 
 /// Plot several diagrams on common axes (depth in mm, linear; logarithmic when the curves span
@@ -130,13 +138,13 @@ mod tests {
     fn csv_has_header_and_rows() {
         let csv = diagrams_csv(&series());
         let mut lines = csv.lines();
-        assert_eq!(lines.next().unwrap(), "rpm,off_depth_mm,off_chatter_hz,pid_depth_mm,pid_chatter_hz");
+        assert_eq!(lines.next().unwrap(), "rpm,b_lim_mm_off,b_lim_mm_pid,f_chatter_hz_off,f_chatter_hz_pid");
         assert_eq!(lines.count(), 50);
     }
 
     #[test]
     fn png_is_written() {
-        let dir = std::env::temp_dir().join(format!("stability-png-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("lobes-png-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join("l.png");
         plot_png(&p, "test", &series(), 400, 300).unwrap();

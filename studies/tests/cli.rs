@@ -51,7 +51,7 @@ fn lobes_writes_csv_and_png() {
     assert!(stdout.contains("b_min"), "{stdout}");
     let csv = std::fs::read_to_string(d.join("lobes.csv")).unwrap();
     assert_eq!(csv.lines().count(), 202);
-    assert!(csv.starts_with("rpm,off_depth_mm,off_chatter_hz,pid_depth_mm,pid_chatter_hz"));
+    assert!(csv.starts_with("rpm,b_lim_mm_off,b_lim_mm_pid,f_chatter_hz_off,f_chatter_hz_pid"));
     assert!(d.join("lobes.png").exists());
     std::fs::remove_dir_all(&d).unwrap();
 }
@@ -110,4 +110,134 @@ fn a_short_main_job_writes_its_table_csvs_and_plots() {
     let summary = std::fs::read_to_string(out.join("runs_summary.csv")).unwrap();
     assert_eq!(summary.lines().count(), 1 + 4 * 2, "{summary}");
     std::fs::remove_dir_all(&out).unwrap();
+}
+
+fn chatter(args: &[&str]) -> (bool, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_chatter")).args(args).output().expect("run chatter");
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// The b_min (mm) of the first controller printed by `chatter lobes`.
+fn b_min(stdout: &str) -> f64 {
+    let s = stdout.split("b_min ").nth(1).expect("b_min printed");
+    s.split(' ').next().unwrap().parse().unwrap()
+}
+
+/// The machine is described with the plant FMU's own parameter names: the Ozsoy benchmark
+/// through `--set` gives Table 8's uncontrolled row without the hard-wired preset.
+#[test]
+fn lobes_of_the_ozsoy_plant_through_set() {
+    let d = out_dir("lobes-ozsoy");
+    let stdout = run(&[
+        "lobes",
+        "--controllers",
+        "off",
+        "--set",
+        "plant.workpiece.stiffness=2.43e7",
+        "--set",
+        "plant.workpiece.mass=30.483047374097595",
+        "--set",
+        "plant.cutting.milling=down",
+        "--set",
+        "plant.cutting.direction_angle=1.5707963267948966",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!((b_min(&stdout) - 1.244).abs() < 0.001, "{stdout}");
+    assert!(stdout.contains("b_max 45.20"), "{stdout}");
+    let csv = std::fs::read_to_string(d.join("lobes.csv")).unwrap();
+    assert!(csv.starts_with("rpm,b_lim_mm_off,f_chatter_hz_off\n"), "{}", &csv[..60]);
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// A machine that is neither the seed's nor Ozsoy's: its lobe minimum is the closed form
+/// 2kζ(1+ζ)/(K_t α₀) of its own parameters, α₀ from the plant core.
+#[test]
+fn lobes_of_another_machine_match_the_closed_form() {
+    let mut p = milling_plant::PlantParams::default();
+    p.workpiece.first = milling_plant::Mode { mass: 12.0, stiffness: 5e7, damping_ratio: 0.02 };
+    p.cutting.teeth = 3;
+    p.cutting.kt = 600e6;
+    p.cutting.kr = 150e6;
+    p.cutting.radial_engagement = 5e-3;
+    let alpha0 = p.directional_coefficient();
+    assert!(alpha0 > 0.0);
+    let analytic = 2.0 * 5e7 * 0.02 * 1.02 / (600e6 * alpha0) * 1e3;
+    let d = out_dir("lobes-other");
+    let stdout = run(&[
+        "lobes",
+        "--controllers",
+        "off",
+        "--rpm-min",
+        "1500",
+        "--rpm-max",
+        "6000",
+        "--set",
+        "plant.workpiece.mass=12",
+        "--set",
+        "plant.workpiece.stiffness=5e7",
+        "--set",
+        "plant.workpiece.damping_ratio=0.02",
+        "--set",
+        "plant.cutting.teeth=3",
+        "--set",
+        "plant.cutting.kt=600e6",
+        "--set",
+        "plant.cutting.kr=150e6",
+        "--set",
+        "plant.cutting.radial_engagement=5e-3",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!((b_min(&stdout) / analytic - 1.0).abs() < 1e-3, "analytic {analytic} mm\n{stdout}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// The controller gains can come from an SSP's parameter bindings: ClosedLoopTable2.ssp binds
+/// the paper's Table 2, so `--preset tuned` is overridden and the PID b_min is Table 6's 1.704 mm.
+#[test]
+fn lobes_take_the_gains_of_a_system() {
+    let ssp = packaging::packaged("ClosedLoopTable2.ssp");
+    let d = out_dir("lobes-ssp");
+    let stdout = run(&[
+        "lobes",
+        "--controllers",
+        "pid",
+        "--preset",
+        "tuned",
+        "--system",
+        ssp.to_str().unwrap(),
+        "--points",
+        "2001",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!((b_min(&stdout) - 1.704).abs() < 0.001, "{stdout}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Bad input is a one-line error, a non-zero exit, and no lobes.csv.
+#[test]
+fn lobes_refuse_bad_input_with_one_line() {
+    let d = out_dir("lobes-bad");
+    let out = d.to_str().unwrap();
+    for (args, expect) in [
+        (vec!["--set", "plant.workpiece.mas=3"], "did you mean workpiece.mass"),
+        (vec!["--set", "plant.workpiece.damping_ratio=2"], "outside its bounds [0, 0.99]"),
+        (vec!["--set", "controller.structure=lqr"], "one of off, pid, fopid, adrc_fopid"),
+        (vec!["--set", "table.kt=1"], "`plant` or `controller`"),
+        (vec!["--rpm-min", "3000", "--rpm-max", "1000"], "speed range [3000, 1000] rpm is empty"),
+        (vec!["--rpm-min=-5"], "not positive"),
+    ] {
+        let mut all = vec!["lobes", "--controllers", "off", "--points", "11", "--out", out];
+        all.extend(args.iter().copied());
+        let (ok, _, err) = chatter(&all);
+        assert!(!ok, "{args:?} succeeded");
+        assert!(err.contains(expect) && err.trim().lines().count() == 1, "{args:?}: {err}");
+        assert!(!d.join("lobes.csv").exists(), "{args:?} wrote a CSV");
+    }
 }

@@ -37,18 +37,28 @@ pub fn structure_by_name(name: &str) -> Result<Structure> {
     model_kit::parse_choice(name).map_err(|e| anyhow::anyhow!("unknown controller: {e}"))
 }
 
+/// The preset of `--preset` (Table 2 or the tuned defaults).
+pub fn controller_preset(g: &GainArgs) -> Result<ControllerParams> {
+    Ok(match g.preset.as_str() {
+        "table2" => ControllerParams::paper_table2(),
+        "tuned" => ControllerParams::tuned(),
+        p => bail!("--preset {p}: expected table2 or tuned"),
+    })
+}
+
 /// Controller parameters for a structure, Table 2 unless overridden.
 pub fn controller(structure: Structure, g: &GainArgs) -> Result<ControllerParams> {
+    controller_from(&controller_preset(g)?, structure, g)
+}
+
+/// Controller parameters for a structure from `base`, with the gains of `--pid/--fopid/--adrc`.
+pub fn controller_from(base: &ControllerParams, structure: Structure, g: &GainArgs) -> Result<ControllerParams> {
     for (name, v, n) in [("--pid", &g.pid, [3, 3]), ("--fopid", &g.fopid, [5, 5]), ("--adrc", &g.adrc, [5, 7])] {
         if let Some(v) = v {
             anyhow::ensure!(n.contains(&v.len()), "{name} takes {n:?} comma-separated values, got {}", v.len());
         }
     }
-    let base = match g.preset.as_str() {
-        "table2" => ControllerParams::paper_table2(),
-        "tuned" => ControllerParams::tuned(),
-        p => bail!("--preset {p}: expected table2 or tuned"),
-    };
+    let base = *base;
     let over = match structure {
         Structure::Pid => g.pid.clone(),
         Structure::Fopid => g.fopid.clone(),

@@ -1,22 +1,40 @@
-//! `chatter lobes`: lobe diagrams for several controllers on common axes.
+//! `chatter lobes`: lobe diagrams of any machine for several controllers on common axes.
+//!
+//! The machine and the controller gains are described with the FMUs' own parameter names:
+//! `--set plant.workpiece.mass=32 --set controller.fopid.kp=2e3` (exactly as `cosim run --set`),
+//! or by pointing at a system (`--system my.ssp`) whose parameter bindings are read through the
+//! FMUs' tables; `--plant seed|ozsoy` and `--preset table2|tuned` choose the starting point.
+//! The lobes and a time-domain run of the FMUs then use one parameter set.
 
 use crate::common::*;
-use anyhow::Result;
+use anyhow::{Context, Result, bail, ensure};
+use chatter_control::ControllerParams;
 use clap::Args;
+use fmi_master::{Override, SystemFile};
+use milling_plant::PlantParams;
 use std::path::PathBuf;
 use std::time::Instant;
+use studies::fmu_params::{self, Resolved};
 use studies::lobes::speed_grid;
 use studies::output::{Series, plot_png, write_csv};
 
 #[derive(Args)]
 pub struct LobesArgs {
-    /// Plant: `seed` (Tables 1, 4) or `ozsoy` (Section 5.7 benchmark).
+    /// Starting plant: `seed` (Tables 1, 4) or `ozsoy` (Section 5.7 benchmark).
     #[arg(long, default_value = "seed")]
     pub plant: String,
-    /// Workpiece modes (1 or 3: the seed's higher modes at 895.8 and 2499.8 Hz).
-    #[arg(long, default_value_t = 1)]
-    pub modes: u32,
-    /// Controllers to draw.
+    /// Workpiece modes (1 or 3: the seed's higher modes at 895.8 and 2499.8 Hz); same as
+    /// `--set plant.workpiece.modes=N`.
+    #[arg(long)]
+    pub modes: Option<u32>,
+    /// Take the plant's and the controller's parameters from this system's bindings (.ssp/.ssd).
+    #[arg(long)]
+    pub system: Option<PathBuf>,
+    /// A parameter of the plant or controller FMU: `plant.NAME=VALUE` or `controller.NAME=VALUE`
+    /// (the FMUs' variable names, SI units, enumeration items by name); repeatable, applied last.
+    #[arg(long = "set", value_name = "plant|controller.NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Controllers to draw (`off` = open loop).
     #[arg(long, value_delimiter = ',', default_value = "off,pid,fopid,adrc_fopid")]
     pub controllers: Vec<String>,
     #[command(flatten)]
@@ -30,20 +48,54 @@ pub struct LobesArgs {
     /// Number of speeds (2001 over 1000–3000 rpm = 1 rpm steps).
     #[arg(long, default_value_t = 2001)]
     pub points: usize,
-    /// Output directory.
-    #[arg(long, default_value = "stability-out")]
+    /// Output directory (lobes.csv, lobes.png).
+    #[arg(long, default_value = "lobes-out")]
     pub out: PathBuf,
 }
 
+/// The plant and the base controller parameters: preset, system bindings, `--set`.
+fn machine(a: &LobesArgs) -> Result<(PlantParams, ControllerParams)> {
+    let mut plant: Resolved<_, _> = Resolved { params: plant_by_name(&a.plant)?, inputs: Default::default() };
+    let mut ctrl: Resolved<_, _> = Resolved { params: controller_preset(&a.gains)?, inputs: Default::default() };
+    if let Some(path) = &a.system {
+        let sys = SystemFile::open(path, Some(&packaging::fmu_dir()))?;
+        let roles = studies::scenario::roles(&sys)?;
+        plant = fmu_params::resolve(&fmu_plant::TABLE, &sys, &roles.plant, &[])?;
+        ctrl = fmu_params::resolve(&fmu_controller::TABLE, &sys, &roles.controller, &[])?;
+    }
+    for s in &a.set {
+        let o: Override = s.parse()?;
+        let (component, name) =
+            o.target.split_once('.').with_context(|| format!("--set {s}: expected plant.NAME or controller.NAME"))?;
+        let value = o.value.to_string();
+        match component {
+            "plant" => fmu_params::apply_text(&fmu_plant::TABLE, &mut plant, name, &value),
+            "controller" => fmu_params::apply_text(&fmu_controller::TABLE, &mut ctrl, name, &value),
+            c => bail!("--set {s}: the component is `plant` or `controller`, not `{c}`"),
+        }
+        .map_err(|e| anyhow::anyhow!("--set {s}: {e}"))?;
+    }
+    if let Some(m) = a.modes {
+        plant.params.workpiece.modes = m;
+    }
+    plant.params.validate().map_err(|e| anyhow::anyhow!("plant: {e}"))?;
+    ctrl.params.validate().map_err(|e| anyhow::anyhow!("controller: {e}"))?;
+    Ok((plant.params, ctrl.params))
+}
+
 pub fn lobes(a: &LobesArgs) -> Result<()> {
-    let mut plant = plant_by_name(&a.plant)?;
-    plant.workpiece.modes = a.modes;
-    plant.validate().map_err(anyhow::Error::msg)?;
-    std::fs::create_dir_all(&a.out)?;
+    ensure!(
+        a.rpm_min.is_finite() && a.rpm_min > 0.0 && a.rpm_max.is_finite() && a.rpm_max > a.rpm_min,
+        "the speed range [{}, {}] rpm is empty or not positive (need 0 < --rpm-min < --rpm-max)",
+        a.rpm_min,
+        a.rpm_max
+    );
+    ensure!(a.points >= 2, "--points {}: need at least 2 speeds", a.points);
+    let (plant, base) = machine(a)?;
     let rpm = speed_grid(a.rpm_min, a.rpm_max, a.points);
     let mut series = Vec::new();
     for name in &a.controllers {
-        let c = controller(structure_by_name(name)?, &a.gains)?;
+        let c = controller_from(&base, structure_by_name(name)?, &a.gains)?;
         let t = Instant::now();
         let (d, ex) = diagram(&plant, &c, &rpm)?;
         let secs = t.elapsed().as_secs_f64();
@@ -52,10 +104,17 @@ pub fn lobes(a: &LobesArgs) -> Result<()> {
         println!("{:>11}  closed loop stable without cutting: {stable}; saturation check exceeded: {sat}", "");
         series.push(Series { name: name.clone(), points: d });
     }
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let csv = a.out.join("lobes.csv");
     let png = a.out.join("lobes.png");
     write_csv(&csv, &series)?;
-    plot_png(&png, &format!("Stability lobes, {} plant", a.plant), &series, 1200, 800)?;
+    plot_png(
+        &png,
+        &format!("Stability lobes, {} plant", a.system.as_ref().map_or(a.plant.clone(), |p| p.display().to_string())),
+        &series,
+        1200,
+        800,
+    )?;
     println!("wrote {} and {}", csv.display(), png.display());
     Ok(())
 }

@@ -53,8 +53,18 @@ enum Cmd {
     Validate(validate::ValidateArgs),
 }
 
-fn main() -> Result<()> {
-    let cli = Cli::parse();
+/// Errors print as one line (the error and its causes, `: `-separated) and exit with status 1.
+fn main() -> std::process::ExitCode {
+    match run(&Cli::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: &Cli) -> Result<()> {
     match &cli.cmd {
         Cmd::MainJob(a) => main_job::main_job(a),
         Cmd::Lobes(a) => lobes::lobes(a),
