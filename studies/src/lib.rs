@@ -76,6 +76,7 @@ pub mod main_job;
 pub mod output;
 pub mod pso;
 pub mod scenario;
+pub mod table8;
 pub mod tuning;
 pub mod validation;
 
