@@ -241,3 +241,28 @@ fn lobes_refuse_bad_input_with_one_line() {
         assert!(!d.join("lobes.csv").exists(), "{args:?} wrote a CSV");
     }
 }
+
+/// `chatter depth-study --quick`: the open-loop peak in 100–200 Hz rises monotonically with the
+/// depth (forced response growing with the cutting force), and every run's row is in the CSV.
+#[test]
+fn depth_study_quick_open_loop_peak_rises_with_depth() {
+    packaging::packaged("ClosedLoop.ssp");
+    let d = out_dir("depth");
+    let (ok, stdout, err) =
+        chatter(&["depth-study", "--quick", "--controllers", "off,fopid", "--out", d.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let csv = std::fs::read_to_string(d.join("depth_study.csv")).unwrap();
+    let mut off: Vec<(f64, f64)> = csv
+        .lines()
+        .skip(1)
+        .filter(|l| l.starts_with("off,"))
+        .map(|l| {
+            let c: Vec<f64> = l.split(',').skip(1).map(|x| x.parse().unwrap()).collect();
+            (c[0], c[1])
+        })
+        .collect();
+    assert_eq!(csv.lines().count(), 1 + 6, "{csv}");
+    off.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert!(off.windows(2).all(|w| w[1].1 > w[0].1), "open-loop peaks {off:?}\n{stdout}");
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -17,6 +17,7 @@
 
 mod check;
 mod common;
+mod depth_study;
 mod lobes;
 mod main_job;
 mod tables;
@@ -39,6 +40,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
+    DepthStudy(depth_study::DepthStudyArgs),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
@@ -67,6 +70,7 @@ fn main() -> std::process::ExitCode {
 fn run(cli: &Cli) -> Result<()> {
     match &cli.cmd {
         Cmd::MainJob(a) => main_job::main_job(a),
+        Cmd::DepthStudy(a) => depth_study::depth_study(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::Tune(a) => tune::tune(a),
         Cmd::Tables(a) => tables::tables(a),
