@@ -148,7 +148,7 @@ fn slug(s: &str) -> String {
 /// natural frequency `√(K/M)/2π`, and the sinusoidal disturbance if its amplitude is non-zero,
 /// from the plant's parameters as this run sets them.
 fn reference_frequencies(sys: &SystemFile, roles: &Roles, overrides: &[Override]) -> Result<RefFreqs> {
-    let r = fmu_params::resolve(&fmu_plant::TABLE, sys, &roles.plant, overrides)?;
+    let r = fmu_params::resolve::<fmu_plant::MillingPlant>(sys, &roles.plant, overrides)?;
     let (p, rpm) = (&r.params, r.inputs.spindle_speed_rpm);
     let tooth = f64::from(p.cutting.teeth) * rpm / 60.0;
     let natural = p.workpiece.first.frequency_hz();

@@ -60,8 +60,8 @@ fn machine(a: &LobesArgs) -> Result<(PlantParams, ControllerParams)> {
     if let Some(path) = &a.system {
         let sys = SystemFile::open(path, Some(&packaging::fmu_dir()))?;
         let roles = studies::scenario::roles(&sys)?;
-        plant = fmu_params::resolve(&fmu_plant::TABLE, &sys, &roles.plant, &[])?;
-        ctrl = fmu_params::resolve(&fmu_controller::TABLE, &sys, &roles.controller, &[])?;
+        plant = fmu_params::resolve::<fmu_plant::MillingPlant>(&sys, &roles.plant, &[])?;
+        ctrl = fmu_params::resolve::<fmu_controller::ChatterController>(&sys, &roles.controller, &[])?;
     }
     for s in &a.set {
         let o: Override = s.parse()?;
@@ -69,8 +69,8 @@ fn machine(a: &LobesArgs) -> Result<(PlantParams, ControllerParams)> {
             o.target.split_once('.').with_context(|| format!("--set {s}: expected plant.NAME or controller.NAME"))?;
         let value = o.value.to_string();
         match component {
-            "plant" => fmu_params::apply_text(&fmu_plant::TABLE, &mut plant, name, &value),
-            "controller" => fmu_params::apply_text(&fmu_controller::TABLE, &mut ctrl, name, &value),
+            "plant" => fmu_params::apply_text::<fmu_plant::MillingPlant>(&mut plant, name, &value),
+            "controller" => fmu_params::apply_text::<fmu_controller::ChatterController>(&mut ctrl, name, &value),
             c => bail!("--set {s}: the component is `plant` or `controller`, not `{c}`"),
         }
         .map_err(|e| anyhow::anyhow!("--set {s}: {e}"))?;
