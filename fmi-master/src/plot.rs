@@ -52,6 +52,17 @@ pub fn register_font() {
     });
 }
 
+/// A white 1400-pixel-wide canvas with a title row and `n` stacked panels.
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+fn stacked<'a>(path: &'a Path, title: &str, n: usize) -> Result<(Area<'a>, Vec<Area<'a>>), DrawError> {
+    register_font();
+    let root = BitMapBackend::new(path, (1400, 220 * n as u32 + 60)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let (top, body) = root.split_vertically(50);
+    top.titled(title, (FONT, 26))?;
+    Ok((root, body.split_evenly((n, 1))))
+}
+
 /// Min/max envelope of a long signal in `bins` time bins (for drawing).
 #[derive(Clone, Debug, Default)]
 pub struct Envelope {
@@ -121,13 +132,7 @@ fn draw_time_histories(
     scale: f64,
     unit: &str,
 ) -> Result<(), DrawError> {
-    register_font();
-    let h = 220 * panels.len() as u32 + 60;
-    let root = BitMapBackend::new(path, (1400, h)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (top, body) = root.split_vertically(50);
-    top.titled(title, (FONT, 26))?;
-    let areas = body.split_evenly((panels.len(), 1));
+    let (root, areas) = stacked(path, title, panels.len())?;
     let ymax = panels.iter().map(|p| p.data.extent()).fold(0.0, f64::max) * scale * 1.05;
     let ymax = if ymax > 0.0 { ymax } else { 1.0 };
     for (k, (area, p)) in areas.iter().zip(panels).enumerate() {
@@ -194,13 +199,7 @@ fn draw_spectra(
     scale: f64,
     unit: &str,
 ) -> Result<(), DrawError> {
-    register_font();
-    let h = 220 * panels.len() as u32 + 60;
-    let root = BitMapBackend::new(path, (1400, h)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (top, body) = root.split_vertically(50);
-    top.titled(title, (FONT, 26))?;
-    let areas = body.split_evenly((panels.len(), 1));
+    let (root, areas) = stacked(path, title, panels.len())?;
     let ymax = panels
         .iter()
         .flat_map(|p| p.data.freq.iter().zip(&p.data.amp).filter(|(f, _)| **f > 0.5 && **f <= f_max).map(|(_, a)| *a))

@@ -120,6 +120,19 @@ mod tests {
         }
     }
 
+    /// The example of the review: the seed plant bending normal to the feed (β = 90°),
+    /// up-milling, α₀ = −0.180: the zero-order depth at 1691 rpm is 3.06 mm (the plant's own
+    /// averaged model decays at 2.75 mm and grows at 3.4 mm).
+    #[test]
+    fn normal_to_the_feed_up_milling_has_a_finite_limit() {
+        let mut plant = PlantParams::default();
+        plant.cutting.direction_angle = PI / 2.0;
+        let p = problem(&plant, None, 1000.0).unwrap();
+        assert_relative_eq!(plant.directional_coefficient(), -0.180, max_relative = 5e-3);
+        let b = p.critical_depth(1691.0).depth;
+        assert!((b * 1e3 - 3.06).abs() < 0.03, "b_lim(1691 rpm) = {} mm", b * 1e3);
+    }
+
     #[test]
     fn ozsoy_alpha0_equals_seed_alpha0() {
         assert_relative_eq!(

@@ -69,24 +69,3 @@ pub fn run_short(sys: &SystemFile, o: &Short<'_>) -> Result<Recorder, fmi_master
 pub fn rms(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
 }
-
-/// Copy an `.fmu` (zip) to `dst`, passing each entry through `f(name, data)`
-/// (`None` drops the entry).
-pub fn rewrite_zip(src: &Path, dst: &Path, f: impl Fn(&str, Vec<u8>) -> Option<Vec<u8>>) {
-    use std::io::{Read, Write};
-    let mut zin = zip::ZipArchive::new(std::fs::File::open(src).expect("open zip")).expect("read zip");
-    let mut zout = zip::ZipWriter::new(std::fs::File::create(dst).expect("create zip"));
-    for i in 0..zin.len() {
-        let mut e = zin.by_index(i).expect("zip entry");
-        let name = e.name().to_string();
-        let mode = e.unix_mode().unwrap_or(0o644);
-        let mut data = Vec::new();
-        e.read_to_end(&mut data).expect("read zip entry");
-        if let Some(data) = f(&name, data) {
-            let opts = zip::write::SimpleFileOptions::default().unix_permissions(mode);
-            zout.start_file(name.as_str(), opts).expect("write zip entry");
-            zout.write_all(&data).expect("write zip entry");
-        }
-    }
-    zout.finish().expect("finish zip");
-}
