@@ -2,7 +2,7 @@
 //! time keeping and state snapshots. The C boundary ([`crate::ffi`]) only
 //! converts pointers to slices and strings and calls these methods.
 
-use crate::model::{Environment, Fmi2Model, ModelLog, Severity, StepError, Values};
+use crate::model::{Environment, Fmi2Model, MAX_INTERNAL_STEPS_PER_CALL, ModelLog, Severity, StepError, Values};
 use model_description::{
     Causality, Initial, ModelDescription, ScalarType, ScalarVariable, Value, ValueReference, Variability,
 };
@@ -484,6 +484,14 @@ impl<M: Fmi2Model> Instance<M> {
         let Some(model) = self.model.as_mut() else {
             return Err(CallError::error("fmi2DoStep: model not initialized"));
         };
+        let cost = model.internal_steps(h);
+        if cost.is_nan() || cost > MAX_INTERNAL_STEPS_PER_CALL {
+            return Err(CallError::error(format!(
+                "fmi2DoStep: communicationStepSize {h} s needs {cost:e} internal steps, more than the limit of \
+                 {MAX_INTERNAL_STEPS_PER_CALL:e} per call; split it into steps of at most {} s",
+                h * MAX_INTERNAL_STEPS_PER_CALL / cost
+            )));
+        }
         let mut log = StepLog { sink: self.sink.as_mut(), info_on, warn_on };
         match model.do_step(&mut self.values, now, h, &mut log) {
             Ok(()) => {

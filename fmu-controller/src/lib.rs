@@ -157,6 +157,11 @@ impl Fmi2Model for ChatterController {
         self.update_outputs(v);
         Ok(())
     }
+
+    /// One controller sample per sample period `ts` in the step.
+    fn internal_steps(&self, h: f64) -> f64 {
+        h / self.ts + 1.0
+    }
 }
 
 impl TableModel for ChatterController {

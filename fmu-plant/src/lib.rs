@@ -182,6 +182,11 @@ impl Fmi2Model for MillingPlant {
         TABLE.write_outputs(&o, v);
         Ok(())
     }
+
+    /// One RK4 step per cell of `internal_step`, plus one partial step at either end.
+    fn internal_steps(&self, h: f64) -> f64 {
+        h / self.plant.params().internal_step + 2.0
+    }
 }
 
 impl TableModel for MillingPlant {
