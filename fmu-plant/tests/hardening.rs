@@ -55,3 +55,54 @@ fn the_bound_follows_the_internal_step_parameter() {
     assert!(m.internal_steps(100.0) <= MAX_INTERNAL_STEPS_PER_CALL);
     assert!(m.internal_steps(1e4) > MAX_INTERNAL_STEPS_PER_CALL);
 }
+
+fn set(inst: &mut Instance<MillingPlant>, name: &str, x: f64) {
+    inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(x)]).unwrap();
+}
+
+/// (history samples, serialized FMU state bytes)
+fn footprint(inst: &Instance<MillingPlant>) -> (usize, usize) {
+    (inst.model().unwrap().plant().history_len(), inst.snapshot().serialize().unwrap().len())
+}
+
+#[test]
+fn sixty_seconds_at_0_rpm_run_in_flat_memory() {
+    let (mut inst, _) = ready(&[]);
+    let h = 1e-3;
+    // cut for 0.1 s at the default speed, then stop the spindle for 60 s
+    for k in 0..100 {
+        inst.do_step(k as f64 * h, h).unwrap();
+    }
+    set(&mut inst, "spindle_speed", 0.0);
+    let mut at_5s = (0, 0);
+    for k in 100..60_100 {
+        inst.do_step(k as f64 * h, h).unwrap();
+        if k == 5_100 {
+            at_5s = footprint(&inst);
+        }
+    }
+    let at_60s = footprint(&inst);
+    println!("0 rpm: history samples / serialized state bytes after 5 s {at_5s:?}, after 60 s {at_60s:?}");
+    // before the fix: +500 000 samples (16 MB of state) per 5 s
+    assert_eq!(at_5s.0, at_60s.0, "the history grows at 0 rpm");
+    // (the counters' variable-length encoding may add a few bytes)
+    assert!(at_60s.1 <= at_5s.1 + 16, "the state grows at 0 rpm: {at_5s:?} -> {at_60s:?}");
+    assert!(at_60s.0 < 1000 && at_60s.1 < 100_000, "{at_60s:?}");
+    // and the spindle starts again on the surface it left
+    set(&mut inst, "spindle_speed", 2000.0);
+    assert!(inst.do_step(60.1, 0.01).is_ok());
+}
+
+#[test]
+fn cutting_below_the_lowest_speed_is_refused_not_buffered_without_bound() {
+    let (mut inst, _) = ready(&[]);
+    let n_min = inst.model().unwrap().plant().min_cutting_speed_rpm();
+    assert!(n_min > 1.0 && n_min < 20.0, "{n_min}");
+    set(&mut inst, "spindle_speed", n_min / 2.0);
+    let err = inst.do_step(0.0, 1e-3).unwrap_err();
+    let CallError::Discard(m) = err else { panic!("expected fmi2Discard, got {err:?}") };
+    assert!(m.contains("lowest cutting speed"), "{m}");
+    let (mut inst, _) = ready(&[]);
+    set(&mut inst, "spindle_speed", n_min * 1.01);
+    assert!(inst.do_step(0.0, 1e-3).is_ok());
+}

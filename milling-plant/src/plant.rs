@@ -19,7 +19,7 @@
 //! the internal step see bitwise-identical trajectories. A step ending inside a cell runs a
 //! partial RK4 step to the communication point and the next step completes the cell.
 
-use crate::history::{History, Sample};
+use crate::history::{History, MAX_SAMPLES, Sample};
 use crate::noise::BandLimitedNoise;
 use crate::params::{CuttingModel, Mode, PlantParams};
 use serde::{Deserialize, Serialize};
@@ -204,9 +204,30 @@ impl Plant {
         Ok(())
     }
 
+    /// Number of samples in the regenerative history (bounded by [`MAX_SAMPLES`]).
+    pub fn history_len(&self) -> usize {
+        self.history.len()
+    }
+
+    /// The lowest spindle speed [rpm] at which the plant cuts: one tooth period must fit in half
+    /// the history (`MAX_SAMPLES / 2` internal steps; 11.4 rpm for 4 teeth at 10 µs). A step
+    /// cutting more slowly (but above 0 rpm) is refused as an invalid input.
+    pub fn min_cutting_speed_rpm(&self) -> f64 {
+        60.0 / (self.p.cutting.teeth as f64 * (MAX_SAMPLES / 2) as f64 * self.p.internal_step)
+    }
+
     /// Advance by `h` [s] with the inputs held.
     pub fn step(&mut self, h: f64, inputs: &PlantInputs) -> Result<(), PlantError> {
         check_inputs(inputs)?;
+        let c = &self.p.cutting;
+        let n = inputs.spindle_speed_rpm;
+        if c.enabled && c.axial_depth > 0.0 && n > 0.0 && n < self.min_cutting_speed_rpm() {
+            return Err(PlantError::Input(format!(
+                "spindle_speed = {n} rpm is below the lowest cutting speed {} rpm (one tooth period must fit \
+                 in the regenerative history); use 0 rpm to stop",
+                self.min_cutting_speed_rpm()
+            )));
+        }
         if !(h.is_finite() && h >= 0.0) {
             return Err(PlantError::Input(format!("step size {h} must be finite and >= 0")));
         }
