@@ -76,6 +76,21 @@ pub trait Fmi2Model: Sized + Send + Clone + Serialize + DeserializeOwned + 'stat
         let _ = h;
         1.0
     }
+
+    /// Check a model restored from a serialized FMU state (`fmi2DeSerializeFMUstate`) before it
+    /// is accepted: the same validation as its parameters get at initialization, plus the
+    /// invariants of its state (finite values, buffer shapes, derived fields), so that a
+    /// corrupted state is `fmi2Error` with this message, never a hang or a panic later. The
+    /// default accepts everything; models with state invariants override it.
+    fn validate_state(&self) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// 64-bit FNV-1a hash of `bytes` (the checksum of serialized FMU states, and the seed of the
+/// magic numbers of component and state handles).
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
 }
 
 /// The most internal steps ([`Fmi2Model::internal_steps`]) one `fmi2DoStep` may cost:

@@ -187,6 +187,11 @@ impl Fmi2Model for MillingPlant {
     fn internal_steps(&self, h: f64) -> f64 {
         h / self.plant.params().internal_step + 2.0
     }
+
+    /// The core's parameter validation and state invariants.
+    fn validate_state(&self) -> Result<(), String> {
+        self.plant.validate_state()
+    }
 }
 
 impl TableModel for MillingPlant {

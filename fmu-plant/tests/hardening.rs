@@ -106,3 +106,88 @@ fn cutting_below_the_lowest_speed_is_refused_not_buffered_without_bound() {
     set(&mut inst, "spindle_speed", n_min * 1.01);
     assert!(inst.do_step(0.0, 1e-3).is_ok());
 }
+
+/// A serialized state after 10 ms of cutting at the default speed (noise on).
+fn saved_state() -> Vec<u8> {
+    let (mut inst, _) = ready(&[]);
+    for k in 0..10 {
+        inst.do_step(k as f64 * 1e-3, 1e-3).unwrap();
+    }
+    inst.snapshot().serialize().unwrap()
+}
+
+/// Replace the trailing checksum, so that only the validation can refuse the bytes.
+fn reseal(bytes: &mut [u8]) {
+    let n = bytes.len() - 8;
+    let sum = fmi2_export::fnv1a64(&bytes[..n]);
+    bytes[n..].copy_from_slice(&sum.to_le_bytes());
+}
+
+/// Every occurrence of the double `from` replaced, one at a time, by `to`: each must be refused.
+fn each_copy_refused(bytes: &[u8], from: f64, to: f64, what: &str) -> usize {
+    let pat = from.to_le_bytes();
+    let hits: Vec<usize> = bytes.windows(8).enumerate().filter(|(_, w)| *w == pat).map(|(i, _)| i).collect();
+    for &at in &hits {
+        let mut bad = bytes.to_vec();
+        bad[at..at + 8].copy_from_slice(&to.to_le_bytes());
+        reseal(&mut bad);
+        match fmi2_export::instance::Snapshot::<MillingPlant>::deserialize(&bad) {
+            Err(CallError::Error(m)) => assert!(m.contains("invalid state"), "{what}: {m}"),
+            other => panic!("{what} at byte {at} accepted: {:?}", other.is_ok()),
+        }
+    }
+    hits.len()
+}
+
+#[test]
+fn a_valid_saved_state_passes_validation() {
+    let bytes = saved_state();
+    assert!(fmi2_export::instance::Snapshot::<MillingPlant>::deserialize(&bytes).is_ok());
+}
+
+#[test]
+fn restored_states_with_a_zero_internal_step_or_negative_f_max_are_refused() {
+    let bytes = saved_state();
+    // before: internal_step = 0 hung the next step, f_max < 0 panicked in clamp
+    assert!(each_copy_refused(&bytes, 1e-5, 0.0, "internal_step = 0") >= 2);
+    assert!(each_copy_refused(&bytes, 27.0, -1.0, "f_max = -1") >= 2);
+}
+
+#[test]
+fn a_restored_state_with_a_disordered_history_is_refused() {
+    let bytes = saved_state();
+    // history sample times are cell·T: the sample at 5 ms moved after the present
+    assert_eq!(each_copy_refused(&bytes, 500.0 * 1e-5, 1.0, "history sample out of order"), 1);
+    assert!(each_copy_refused(&bytes, 500.0 * 1e-5, f64::NAN, "history sample not finite") >= 1);
+}
+
+#[test]
+fn randomly_corrupted_resealed_states_never_panic_or_hang() {
+    let bytes = saved_state();
+    let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+    let (mut refused, mut loaded) = (0, 0);
+    for _ in 0..2000 {
+        let mut bad = bytes.clone();
+        for _ in 0..3 {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            let i = (rng % (bad.len() as u64 - 8)) as usize;
+            bad[i] ^= 1 << (rng >> 60 & 7);
+        }
+        reseal(&mut bad);
+        match fmi2_export::instance::Snapshot::<MillingPlant>::deserialize(&bad) {
+            Err(_) => refused += 1,
+            Ok(snap) => {
+                loaded += 1;
+                let (mut inst, _) = ready(&[]);
+                inst.restore(&snap);
+                let t = inst.time();
+                let started = Instant::now();
+                let _ = inst.do_step(t, 1e-3);
+                assert!(started.elapsed().as_secs_f64() < 2.0);
+            }
+        }
+    }
+    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
+}

@@ -87,6 +87,11 @@ impl History {
         self.buf.len()
     }
 
+    /// The newest sample.
+    pub fn newest(&self) -> Option<&Sample> {
+        self.buf.back()
+    }
+
     /// Is the history empty?
     pub fn is_empty(&self) -> bool {
         self.buf.is_empty()
