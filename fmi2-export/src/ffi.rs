@@ -318,8 +318,8 @@ pub unsafe fn set_debug_logging<M: Fmi2Model>(
 /// Arguments as in the FMI 2.0 standard.
 pub unsafe fn setup_experiment<M: Fmi2Model>(
     c: fmi2Component,
-    _tolerance_defined: fmi2Boolean,
-    _tolerance: fmi2Real,
+    tolerance_defined: fmi2Boolean,
+    tolerance: fmi2Real,
     start: fmi2Real,
     stop_defined: fmi2Boolean,
     stop: fmi2Real,
@@ -327,6 +327,12 @@ pub unsafe fn setup_experiment<M: Fmi2Model>(
     // SAFETY: forwarded contract.
     unsafe {
         with::<M>(c, "fmi2SetupExperiment", mask::SETUP, |comp| {
+            // the models step on fixed grids and use no tolerance, but a defined one must be a tolerance
+            if tolerance_defined != fmi2False && !(tolerance.is_finite() && tolerance > 0.0) {
+                return Err(CallError::Error(format!(
+                    "fmi2SetupExperiment: tolerance {tolerance} is defined but not a finite positive number"
+                )));
+            }
             comp.inst.setup_experiment(start, (stop_defined != fmi2False).then_some(stop))?;
             Ok(fmi2OK)
         })

@@ -79,6 +79,10 @@ fn every_bad_input_is_refused_with_a_message_and_nothing_crashes() {
                 api::fmi2SetupExperiment(c, 0, 0.0, 0.0, 1, f64::INFINITY)
             }),
             row("SetupExperiment stop < start", Instantiated, |c| api::fmi2SetupExperiment(c, 0, 0.0, 1.0, 1, 0.5)),
+            row("SetupExperiment NaN tolerance", Instantiated, |c| {
+                api::fmi2SetupExperiment(c, 1, f64::NAN, 0.0, 0, 0.0)
+            }),
+            row("SetupExperiment tolerance <= 0", Instantiated, |c| api::fmi2SetupExperiment(c, 1, 0.0, 0.0, 0, 0.0)),
             row("SetupExperiment wrong state", Ready, |c| api::fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0)),
             row("EnterInitializationMode wrong state", Ready, |c| api::fmi2EnterInitializationMode(c)),
             row("ExitInitializationMode wrong state", Instantiated, |c| api::fmi2ExitInitializationMode(c)),
