@@ -100,6 +100,28 @@ impl Controller {
         })
     }
 
+    /// Is this a state the controller can continue from? The parameters pass the validation of
+    /// [`Controller::new`], every configuration value (taps, gains, sections) is the one they
+    /// give, and every state value is finite. Run on every restored FMU state.
+    pub fn validate_state(&self) -> Result<(), String> {
+        let fresh = Controller::new(&self.params)?;
+        match (&self.law, &fresh.law) {
+            (Law::Off, Law::Off) => {}
+            (Law::Pid(a), Law::Pid(b)) => a.check(b)?,
+            (Law::Fopid(a), Law::Fopid(b)) => a.check(b)?,
+            (Law::Adrc { td, fopid }, Law::Adrc { td: td0, fopid: fopid0 }) => {
+                td.check(td0)?;
+                fopid.check(fopid0)?;
+            }
+            _ => return Err("the control law does not match the structure parameter".into()),
+        }
+        self.eso.check(&fresh.eso)?;
+        if ![-1.0, 0.0, 1.0].iter().any(|d: &f64| d.to_bits() == self.sat_dir.to_bits()) {
+            return Err("the saturation direction is not -1, 0 or 1".into());
+        }
+        Ok(())
+    }
+
     /// The parameters this controller was built from.
     pub fn params(&self) -> &ControllerParams {
         &self.params

@@ -58,6 +58,13 @@ pub struct Eso {
 }
 
 impl Eso {
+    /// A restored ESO: the gains `fresh` has, a finite state.
+    pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
+        let cfg = |e: &Eso| [e.ts, e.b0, e.omega_o, e.k[0], e.k[1], e.k[2]];
+        crate::restored::same("ESO gains", &cfg(self), &cfg(fresh))?;
+        crate::restored::finite("ESO state", &[self.z[0], self.z[1], self.z[2], self.u_prev])
+    }
+
     /// Observer of bandwidth `omega_o` \[rad/s\] for input gain `b0` \[1/kg\] at sample period `ts`.
     pub fn new(omega_o: f64, b0: f64, ts: f64) -> Self {
         let q = (-omega_o * ts).exp();

@@ -47,6 +47,15 @@ pub struct Fopid {
 }
 
 impl Fopid {
+    /// A restored FOPID: the gains and operators `fresh` has.
+    pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
+        if self.g != fresh.g {
+            return Err("FOPID gains do not match the parameters".into());
+        }
+        self.int_op.check(&fresh.int_op)?;
+        self.der_op.check(&fresh.der_op)
+    }
+
     /// FOPID whose derivative branch applies `D^derivative_order` (μ standalone, μ − 1 in ADRC).
     pub fn new(g: FopidGains, derivative_order: f64, ts: f64, fp: &FractionalParams) -> Self {
         Fopid {

@@ -68,6 +68,21 @@ pub struct FractionalOperator {
 }
 
 impl FractionalOperator {
+    /// A restored operator: the order, period and parts `fresh` has, with finite states.
+    pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
+        crate::restored::same("fractional operator", &[self.alpha, self.ts], &[fresh.alpha, fresh.ts])?;
+        if self.m != fresh.m || self.int_states.len() != fresh.int_states.len() {
+            return Err("fractional operator order does not match the parameters".into());
+        }
+        crate::restored::finite("fractional operator state", &self.int_states)?;
+        match (&self.part, &fresh.part) {
+            (Part::Identity, Part::Identity) => Ok(()),
+            (Part::Gl(a), Part::Gl(b)) => a.check(b),
+            (Part::Oustaloup(a), Part::Oustaloup(b)) => a.check(b),
+            _ => Err("fractional operator method does not match the parameters".into()),
+        }
+    }
+
     /// Operator of order `alpha` at sample period `ts`.
     pub fn new(alpha: f64, ts: f64, p: &FractionalParams) -> Self {
         let m = alpha.floor();

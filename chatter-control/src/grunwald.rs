@@ -96,6 +96,19 @@ impl GrunwaldLetnikov {
         self.ts
     }
 
+    /// A restored operator: the taps `fresh` has, a buffer of its length, the head inside it.
+    pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
+        crate::restored::same(
+            "Grünwald–Letnikov taps",
+            &[&[self.alpha, self.ts], &self.coeffs[..]].concat(),
+            &[&[fresh.alpha, fresh.ts], &fresh.coeffs[..]].concat(),
+        )?;
+        if self.buf.len() != fresh.buf.len() || self.head >= self.coeffs.len() {
+            return Err("Grünwald–Letnikov buffer does not match the memory length".into());
+        }
+        crate::restored::finite("Grünwald–Letnikov buffer", &self.buf)
+    }
+
     /// Push sample `x_k` and return `D^α x (t_k)`.
     #[inline]
     pub fn step(&mut self, x: f64) -> f64 {

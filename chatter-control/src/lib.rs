@@ -40,6 +40,20 @@ pub mod params;
 pub mod pid;
 pub mod td;
 
+/// Checks of restored states: a configuration value must equal, bit for bit, the one the
+/// parameters give; a state value must be finite.
+pub(crate) mod restored {
+    /// `what` if the configuration differs from the fresh one.
+    pub fn same(what: &str, a: &[f64], fresh: &[f64]) -> Result<(), String> {
+        let eq = a.len() == fresh.len() && a.iter().zip(fresh).all(|(x, y)| x.to_bits() == y.to_bits());
+        if eq { Ok(()) } else { Err(format!("{what} does not match the parameters")) }
+    }
+    /// `what` if a state value is not finite.
+    pub fn finite(what: &str, a: &[f64]) -> Result<(), String> {
+        if a.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(format!("{what} is not finite")) }
+    }
+}
+
 pub use controller::{Controller, ControllerOutput, zoh};
 pub use fopid::FopidGains;
 pub use fractional::{FractionalMethod, FractionalParams};

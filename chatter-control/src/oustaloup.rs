@@ -68,6 +68,17 @@ pub struct Oustaloup {
 }
 
 impl Oustaloup {
+    /// A restored filter: the sections `fresh` has, with finite states.
+    pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
+        let coef = |o: &Oustaloup| {
+            let mut v = vec![o.r, o.gain];
+            v.extend(o.sections.iter().flat_map(|s| [s.b0, s.b1, s.a1]));
+            v
+        };
+        crate::restored::same("Oustaloup sections", &coef(self), &coef(fresh))?;
+        crate::restored::finite("Oustaloup state", &self.sections.iter().map(|s| s.s).collect::<Vec<_>>())
+    }
+
     /// Approximation of `s^r` guaranteed over `[omega_b, omega_h]` (rad/s), order `order`
     /// (`2N + 1` sections), discretised at sample period `ts`.
     pub fn new(r: f64, omega_b: f64, omega_h: f64, order: usize, ts: f64) -> Self {

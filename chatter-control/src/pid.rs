@@ -40,6 +40,14 @@ pub struct Pid {
 }
 
 impl Pid {
+    /// A restored PID: the gains and period `fresh` has, a finite state.
+    pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
+        if self.g != fresh.g || self.ts.to_bits() != fresh.ts.to_bits() {
+            return Err("PID gains do not match the parameters".into());
+        }
+        crate::restored::finite("PID state", &[self.integ, self.d, self.e_prev])
+    }
+
     /// PID at sample period `ts`.
     pub fn new(g: PidGains, ts: f64) -> Self {
         Pid { g, ts, integ: 0.0, d: 0.0, e_prev: 0.0 }

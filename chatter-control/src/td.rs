@@ -43,6 +43,16 @@ pub struct TrackingDifferentiator {
 }
 
 impl TrackingDifferentiator {
+    /// A restored TD: the factors `fresh` has, a finite state.
+    pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
+        crate::restored::same(
+            "tracking differentiator",
+            &[self.r0, self.h0, self.ts],
+            &[fresh.r0, fresh.h0, fresh.ts],
+        )?;
+        crate::restored::finite("tracking differentiator state", &[self.v1, self.v2])
+    }
+
     /// TD with speed factor `r0` \[m/s²\] and filter factor `h0` \[s\] at sample period `ts`.
     pub fn new(r0: f64, h0: f64, ts: f64) -> Self {
         TrackingDifferentiator { r0, h0, ts, v1: 0.0, v2: 0.0, started: false }

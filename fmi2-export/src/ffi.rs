@@ -12,13 +12,16 @@
 //!
 //! Ownership: `fmi2Instantiate` returns `Box::into_raw` of a [`Component`];
 //! `fmi2FreeInstance` takes it back (null tolerated). FMU states are boxed
-//! [`Snapshot`]s, freed by `fmi2FreeFMUstate`. Strings returned by
+//! [`Snapshot`]s, freed by `fmi2FreeFMUstate`. Both start with a magic number derived from
+//! the model's GUID, checked on every call: a handle of another FMU or of the other kind
+//! (component for state) is `fmi2Error`, not undefined behaviour (a pointer to unmapped
+//! memory cannot be detected). Strings returned by
 //! `fmi2GetString` live in the component until the next `fmi2GetString` call.
 
 #![allow(clippy::missing_safety_doc, missing_docs)]
 
 use crate::instance::{CallError, CallResult, Instance, LogLevel, LogSink, Snapshot, State, mask, resource_path};
-use crate::model::{Environment, Fmi2Model};
+use crate::model::{Environment, Fmi2Model, fnv1a64};
 use fmi2_abi::*;
 use model_description::{ScalarType, Value};
 use std::ffi::{CStr, CString, c_char};
@@ -26,10 +29,60 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::ptr;
 
 /// The object behind an `fmi2Component`.
+#[repr(C)]
 pub struct Component<M: Fmi2Model> {
+    /// [`component_magic`] of `M` while alive (first field: read before anything else).
+    magic: u64,
     inst: Instance<M>,
     strings: Vec<CString>,
     scratch: Vec<Value>,
+}
+
+/// The object behind an `fmi2FMUstate`.
+#[repr(C)]
+struct BoxedState<M: Fmi2Model> {
+    /// [`state_magic`] of `M` (first field).
+    magic: u64,
+    snap: Snapshot<M>,
+}
+
+fn magic_of<M: Fmi2Model>(kind: &[u8]) -> u64 {
+    fnv1a64(kind) ^ fnv1a64(M::description().guid.as_bytes()).rotate_left(1)
+}
+
+/// Magic number of a live component of `M`.
+fn component_magic<M: Fmi2Model>() -> u64 {
+    magic_of::<M>(b"fmi2-export component ")
+}
+
+/// Magic number of an FMU state of `M`.
+fn state_magic<M: Fmi2Model>() -> u64 {
+    magic_of::<M>(b"fmi2-export state ")
+}
+
+/// A new boxed FMU state.
+fn new_state<M: Fmi2Model>(snap: Snapshot<M>) -> fmi2FMUstate {
+    Box::into_raw(Box::new(BoxedState { magic: state_magic::<M>(), snap })) as fmi2FMUstate
+}
+
+/// The snapshot behind a state handle of this model.
+///
+/// # Safety
+/// `s` is null or points to at least 8 readable bytes; if they hold [`state_magic`] it is a
+/// live state of `M`.
+unsafe fn state_ref<'a, M: Fmi2Model>(call: &str, s: fmi2FMUstate) -> CallResult<&'a mut Snapshot<M>> {
+    if s.is_null() {
+        return Err(CallError::Error(format!("{call}: FMUstate is NULL")));
+    }
+    // SAFETY: by contract at least the first 8 bytes are readable; unaligned read to be safe.
+    if unsafe { (s as *const u64).read_unaligned() } != state_magic::<M>() {
+        return Err(CallError::Error(format!(
+            "{call}: FMUstate {s:p} is not a state of this FMU ({}): wrong magic number",
+            M::description().model_name
+        )));
+    }
+    // SAFETY: the magic number says this is a live `BoxedState<M>`.
+    Ok(unsafe { &mut (*(s as *mut BoxedState<M>)).snap })
 }
 
 /// Sends messages to the host's `fmi2CallbackLogger` with a fixed `"%s"` format.
@@ -132,7 +185,12 @@ unsafe fn with<M: Fmi2Model>(
     if c.is_null() {
         return fmi2Error;
     }
-    // SAFETY: by contract `c` came from `instantiate::<M>` and is used by one thread at a time.
+    // SAFETY: by contract `c` points to at least 8 readable bytes; a foreign or freed
+    // component is refused (there is no logger to tell: the host's is in the component).
+    if unsafe { (c as *const u64).read_unaligned() } != component_magic::<M>() {
+        return fmi2Error;
+    }
+    // SAFETY: the magic number says `c` is a live component of `M`, used by one thread at a time.
     let comp = unsafe { &mut *(c as *mut Component<M>) };
     if comp.inst.state == State::Fatal {
         return fmi2Fatal;
@@ -212,7 +270,8 @@ pub unsafe fn instantiate<M: Fmi2Model>(
         let resources = unsafe { opt_str(resource_location) }.and_then(resource_path);
         let env = Environment { instance_name: name.to_string(), resources };
         let inst = Instance::<M>::new(env, logging_on != fmi2False, Box::new(sink));
-        let comp = Box::new(Component { inst, strings: Vec::new(), scratch: Vec::new() });
+        let comp =
+            Box::new(Component { magic: component_magic::<M>(), inst, strings: Vec::new(), scratch: Vec::new() });
         Box::into_raw(comp) as fmi2Component
     }));
     r.unwrap_or(ptr::null_mut())
@@ -221,11 +280,14 @@ pub unsafe fn instantiate<M: Fmi2Model>(
 /// # Safety
 /// `c` is null or a live component of model `M`; it is invalid afterwards.
 pub unsafe fn free_instance<M: Fmi2Model>(c: fmi2Component) {
-    if c.is_null() {
+    // SAFETY: a non-null `c` points to at least 8 readable bytes; only a live component of `M`
+    // (right magic number) is freed, anything else is ignored.
+    if c.is_null() || unsafe { (c as *const u64).read_unaligned() } != component_magic::<M>() {
         return;
     }
     // SAFETY: `c` came from `Box::into_raw` in `instantiate::<M>`.
-    let comp = unsafe { Box::from_raw(c as *mut Component<M>) };
+    let mut comp = unsafe { Box::from_raw(c as *mut Component<M>) };
+    comp.magic = 0;
     let _ = catch_unwind(AssertUnwindSafe(move || drop(comp)));
 }
 
@@ -256,8 +318,8 @@ pub unsafe fn set_debug_logging<M: Fmi2Model>(
 /// Arguments as in the FMI 2.0 standard.
 pub unsafe fn setup_experiment<M: Fmi2Model>(
     c: fmi2Component,
-    _tolerance_defined: fmi2Boolean,
-    _tolerance: fmi2Real,
+    tolerance_defined: fmi2Boolean,
+    tolerance: fmi2Real,
     start: fmi2Real,
     stop_defined: fmi2Boolean,
     stop: fmi2Real,
@@ -265,6 +327,12 @@ pub unsafe fn setup_experiment<M: Fmi2Model>(
     // SAFETY: forwarded contract.
     unsafe {
         with::<M>(c, "fmi2SetupExperiment", mask::SETUP, |comp| {
+            // the models step on fixed grids and use no tolerance, but a defined one must be a tolerance
+            if tolerance_defined != fmi2False && !(tolerance.is_finite() && tolerance > 0.0) {
+                return Err(CallError::Error(format!(
+                    "fmi2SetupExperiment: tolerance {tolerance} is defined but not a finite positive number"
+                )));
+            }
             comp.inst.setup_experiment(start, (stop_defined != fmi2False).then_some(stop))?;
             Ok(fmi2OK)
         })
@@ -435,9 +503,9 @@ pub unsafe fn get_fmu_state<M: Fmi2Model>(c: fmi2Component, state: *mut fmi2FMUs
                 return Err(CallError::Error(format!("{CALL}: FMUstate pointer is NULL")));
             }
             if (*state).is_null() {
-                *state = Box::into_raw(Box::new(comp.inst.snapshot())) as fmi2FMUstate;
+                *state = new_state(comp.inst.snapshot());
             } else {
-                comp.inst.snapshot_into(&mut *(*state as *mut Snapshot<M>));
+                comp.inst.snapshot_into(state_ref::<M>(CALL, *state)?);
             }
             Ok(fmi2OK)
         })
@@ -450,10 +518,7 @@ pub unsafe fn set_fmu_state<M: Fmi2Model>(c: fmi2Component, state: fmi2FMUstate)
     // SAFETY: forwarded contract; `state` was returned by this FMU for model `M`.
     unsafe {
         with::<M>(c, "fmi2SetFMUstate", mask::ANY_BUT_FATAL, |comp| {
-            if state.is_null() {
-                return Err(CallError::Error("fmi2SetFMUstate: FMUstate is NULL".into()));
-            }
-            comp.inst.restore(&*(state as *const Snapshot<M>));
+            comp.inst.restore(state_ref::<M>("fmi2SetFMUstate", state)?);
             Ok(fmi2OK)
         })
     }
@@ -466,7 +531,10 @@ pub unsafe fn free_fmu_state<M: Fmi2Model>(c: fmi2Component, state: *mut fmi2FMU
     unsafe {
         with::<M>(c, "fmi2FreeFMUstate", mask::ANY_BUT_FATAL, |_| {
             if !state.is_null() && !(*state).is_null() {
-                drop(Box::from_raw(*state as *mut Snapshot<M>));
+                state_ref::<M>("fmi2FreeFMUstate", *state)?;
+                let mut b = Box::from_raw(*state as *mut BoxedState<M>);
+                b.magic = 0;
+                drop(b);
                 *state = ptr::null_mut();
             }
             Ok(fmi2OK)
@@ -485,10 +553,10 @@ pub unsafe fn serialized_fmu_state_size<M: Fmi2Model>(
     // SAFETY: forwarded contract.
     unsafe {
         with::<M>(c, CALL, mask::ANY_BUT_FATAL, |_| {
-            if state.is_null() || size.is_null() {
-                return Err(CallError::Error(format!("{CALL}: FMUstate or size is NULL")));
+            if size.is_null() {
+                return Err(CallError::Error(format!("{CALL}: size is NULL")));
             }
-            *size = (*(state as *const Snapshot<M>)).serialize()?.len();
+            *size = state_ref::<M>(CALL, state)?.serialize()?.len();
             Ok(fmi2OK)
         })
     }
@@ -506,10 +574,7 @@ pub unsafe fn serialize_fmu_state<M: Fmi2Model>(
     // SAFETY: forwarded contract.
     unsafe {
         with::<M>(c, CALL, mask::ANY_BUT_FATAL, |_| {
-            if state.is_null() {
-                return Err(CallError::Error(format!("{CALL}: FMUstate is NULL")));
-            }
-            let data = (*(state as *const Snapshot<M>)).serialize()?;
+            let data = state_ref::<M>(CALL, state)?.serialize()?;
             if size < data.len() {
                 return Err(CallError::Error(format!("{CALL}: buffer of {size} bytes is smaller than {}", data.len())));
             }
@@ -538,9 +603,9 @@ pub unsafe fn deserialize_fmu_state<M: Fmi2Model>(
             let data = slice(CALL, "serializedState", bytes as *const u8, size)?;
             let snap = Snapshot::<M>::deserialize(data)?;
             if (*state).is_null() {
-                *state = Box::into_raw(Box::new(snap)) as fmi2FMUstate;
+                *state = new_state(snap);
             } else {
-                *(*state as *mut Snapshot<M>) = snap;
+                *state_ref::<M>(CALL, *state)? = snap;
             }
             Ok(fmi2OK)
         })

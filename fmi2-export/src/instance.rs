@@ -2,7 +2,9 @@
 //! time keeping and state snapshots. The C boundary ([`crate::ffi`]) only
 //! converts pointers to slices and strings and calls these methods.
 
-use crate::model::{Environment, Fmi2Model, ModelLog, Severity, StepError, Values};
+use crate::model::{
+    Environment, Fmi2Model, MAX_INTERNAL_STEPS_PER_CALL, ModelLog, Severity, StepError, Values, fnv1a64,
+};
 use model_description::{
     Causality, Initial, ModelDescription, ScalarType, ScalarVariable, Value, ValueReference, Variability,
 };
@@ -172,7 +174,9 @@ pub struct Snapshot<M: Fmi2Model> {
     dirty: bool,
 }
 
-const SNAPSHOT_MAGIC: &[u8; 8] = b"CHFMUST\x01";
+const SNAPSHOT_MAGIC: &[u8; 8] = b"CHFMUST\0";
+/// Version of the serialized state format; version 1 had no version field and no checksum.
+const SNAPSHOT_VERSION: u32 = 2;
 
 /// One FMU instance.
 pub struct Instance<M: Fmi2Model> {
@@ -484,6 +488,14 @@ impl<M: Fmi2Model> Instance<M> {
         let Some(model) = self.model.as_mut() else {
             return Err(CallError::error("fmi2DoStep: model not initialized"));
         };
+        let cost = model.internal_steps(h);
+        if cost.is_nan() || cost > MAX_INTERNAL_STEPS_PER_CALL {
+            return Err(CallError::error(format!(
+                "fmi2DoStep: communicationStepSize {h} s needs {cost:e} internal steps, more than the limit of \
+                 {MAX_INTERNAL_STEPS_PER_CALL:e} per call; split it into steps of at most {} s",
+                h * MAX_INTERNAL_STEPS_PER_CALL / cost
+            )));
+        }
         let mut log = StepLog { sink: self.sink.as_mut(), info_on, warn_on };
         match model.do_step(&mut self.values, now, h, &mut log) {
             Ok(()) => {
@@ -535,27 +547,46 @@ impl<M: Fmi2Model> Instance<M> {
 }
 
 impl<M: Fmi2Model> Snapshot<M> {
-    /// Versioned byte format: magic (8 bytes), GUID length (u32 LE) and GUID,
-    /// then the postcard encoding of the snapshot.
+    /// Versioned byte format: magic (8 bytes), format version (u32 LE), GUID length (u32 LE) and
+    /// GUID, the postcard encoding of the snapshot, then the FNV-1a 64 checksum (u64 LE) of all
+    /// the bytes before it.
     pub fn serialize(&self) -> CallResult<Vec<u8>> {
         let guid = M::description().guid.as_bytes();
         let mut out = Vec::with_capacity(64);
         out.extend_from_slice(SNAPSHOT_MAGIC);
+        out.extend_from_slice(&SNAPSHOT_VERSION.to_le_bytes());
         out.extend_from_slice(&(guid.len() as u32).to_le_bytes());
         out.extend_from_slice(guid);
-        postcard::to_extend(self, out).map_err(|e| CallError::error(format!("fmi2SerializeFMUstate: {e}")))
+        let mut out =
+            postcard::to_extend(self, out).map_err(|e| CallError::error(format!("fmi2SerializeFMUstate: {e}")))?;
+        let sum = fnv1a64(&out);
+        out.extend_from_slice(&sum.to_le_bytes());
+        Ok(out)
     }
 
-    /// Parse bytes written by [`Snapshot::serialize`]; anything else is an error.
+    /// Parse bytes written by [`Snapshot::serialize`] and validate what they hold
+    /// ([`Snapshot::validate`]); anything else is an error.
     pub fn deserialize(bytes: &[u8]) -> CallResult<Self> {
         let err = |m: &str| CallError::error(format!("fmi2DeSerializeFMUstate: {m}"));
+        if bytes.starts_with(b"CHFMUST\x01") {
+            return Err(err("state in format version 1 (an older build of this FMU); it cannot be read"));
+        }
         let rest =
             bytes.strip_prefix(SNAPSHOT_MAGIC).ok_or_else(|| err("not a serialized state of this FMU (bad header)"))?;
-        if rest.len() < 4 {
+        if rest.len() < 16 {
             return Err(err("truncated state"));
         }
-        let n = u32::from_le_bytes([rest[0], rest[1], rest[2], rest[3]]) as usize;
-        let rest = &rest[4..];
+        let (body, sum) = bytes.split_at(bytes.len() - 8);
+        if fnv1a64(body).to_le_bytes() != sum {
+            return Err(err("corrupted state (checksum mismatch)"));
+        }
+        let rest = &body[SNAPSHOT_MAGIC.len()..];
+        let version = u32::from_le_bytes([rest[0], rest[1], rest[2], rest[3]]);
+        if version != SNAPSHOT_VERSION {
+            return Err(err(&format!("state format version {version}, this FMU reads {SNAPSHOT_VERSION}")));
+        }
+        let n = u32::from_le_bytes([rest[4], rest[5], rest[6], rest[7]]) as usize;
+        let rest = &rest[8..];
         if rest.len() < n || &rest[..n] != M::description().guid.as_bytes() {
             return Err(err("state was saved by another model (GUID mismatch)"));
         }
@@ -564,10 +595,53 @@ impl<M: Fmi2Model> Snapshot<M> {
         if !tail.is_empty() {
             return Err(err("trailing bytes after state"));
         }
-        if !snap.values.same_shape(M::description()) {
-            return Err(err("state does not match the variable table"));
-        }
+        snap.validate().map_err(|m| err(&format!("invalid state: {m}")))?;
         Ok(snap)
+    }
+
+    /// Is this a state the instance can continue from? The variable store has the table's
+    /// shape, every Real is finite, parameters and inputs are within their bounds and
+    /// enumerations hold items, the times are finite, and the model accepts its own state
+    /// ([`Fmi2Model::validate_state`]).
+    pub fn validate(&self) -> Result<(), String> {
+        let md = M::description();
+        if !self.values.same_shape(md) {
+            return Err("the variable store does not match the variable table".into());
+        }
+        for v in md.variables() {
+            let x = self.values.get(v.scalar_type(), v.value_reference);
+            let num = match x {
+                Value::Real(r) if !r.is_finite() => return Err(format!("\"{}\" = {r} is not finite", v.name)),
+                Value::Real(r) => r,
+                Value::Integer(i) => f64::from(i),
+                _ => continue,
+            };
+            let (lo, hi) = v.range();
+            let bounded = matches!(v.causality, Causality::Parameter | Causality::Input);
+            if bounded && (lo.is_some_and(|lo| num < lo) || hi.is_some_and(|hi| num > hi)) {
+                return Err(format!("\"{}\" = {num} is outside its bounds", v.name));
+            }
+            if let model_description::VarKind::Enumeration(e) = &v.kind
+                && !md
+                    .enumeration_items(&e.declared_type)
+                    .iter()
+                    .any(|(_, val)| f64::from(*val).to_bits() == num.to_bits())
+            {
+                return Err(format!("\"{}\" = {num} is not an item of {}", v.name, e.declared_type));
+            }
+        }
+        let c = &self.clock;
+        if !(c.base.is_finite() && c.h.is_finite() && c.h >= 0.0 && c.now().is_finite() && self.start_time.is_finite())
+        {
+            return Err("the time is not finite".into());
+        }
+        if self.stop_time.is_some_and(|s| !(s.is_finite() && s >= self.start_time)) {
+            return Err("the stop time is not a finite time after the start time".into());
+        }
+        match &self.model {
+            Some(m) => m.validate_state(),
+            None => Ok(()),
+        }
     }
 }
 

@@ -66,7 +66,37 @@ pub trait Fmi2Model: Sized + Send + Clone + Serialize + DeserializeOwned + 'stat
     /// Advance from `t` to `t + h`, reading inputs and tunable parameters from
     /// `values` and writing the outputs at `t + h` back.
     fn do_step(&mut self, values: &mut Values, t: f64, h: f64, log: &mut dyn ModelLog) -> Result<(), StepError>;
+
+    /// How many internal steps (the model's unit of work: integrator steps, controller samples)
+    /// a communication step of size `h` costs. The layer refuses, with `fmi2Error` before
+    /// calling [`Fmi2Model::do_step`], a step that would cost more than
+    /// [`MAX_INTERNAL_STEPS_PER_CALL`], so that no single call can run unboundedly long.
+    /// The default, one, suits models whose step does a fixed amount of work.
+    fn internal_steps(&self, h: f64) -> f64 {
+        let _ = h;
+        1.0
+    }
+
+    /// Check a model restored from a serialized FMU state (`fmi2DeSerializeFMUstate`) before it
+    /// is accepted: the same validation as its parameters get at initialization, plus the
+    /// invariants of its state (finite values, buffer shapes, derived fields), so that a
+    /// corrupted state is `fmi2Error` with this message, never a hang or a panic later. The
+    /// default accepts everything; models with state invariants override it.
+    fn validate_state(&self) -> Result<(), String> {
+        Ok(())
+    }
 }
+
+/// 64-bit FNV-1a hash of `bytes` (the checksum of serialized FMU states, and the seed of the
+/// magic numbers of component and state handles).
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3))
+}
+
+/// The most internal steps ([`Fmi2Model::internal_steps`]) one `fmi2DoStep` may cost:
+/// 10⁷, i.e. 100 s of simulated time for a model on a 10 µs grid, a few seconds of
+/// computation. A master with a larger step splits it into several calls.
+pub const MAX_INTERNAL_STEPS_PER_CALL: f64 = 1e7;
 
 /// The variable store of an instance: one slot per declared variable, indexed
 /// by (API type, value reference).

@@ -421,3 +421,16 @@ fn writes_the_test_model_description_for_external_validation() {
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("Oscillator.modelDescription.xml"), xml).unwrap();
 }
+
+#[test]
+fn a_step_costing_more_than_the_work_bound_is_an_error_with_the_limit() {
+    let cb = callbacks(40);
+    unsafe {
+        let c = ready("huge", &cb);
+        // 1e6 s at the test model's 1 ms substeps: 1e9 substeps, refused before the model runs
+        assert_eq!(api::fmi2DoStep(c, 0.0, 1e6, 1), fmi2Error);
+        let m = last_error("huge");
+        assert!(m.contains("internal steps") && m.contains("1e7"), "{m}");
+        api::fmi2FreeInstance(c);
+    }
+}

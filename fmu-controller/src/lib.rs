@@ -157,6 +157,27 @@ impl Fmi2Model for ChatterController {
         self.update_outputs(v);
         Ok(())
     }
+
+    /// One controller sample per sample period `ts` in the step.
+    fn internal_steps(&self, h: f64) -> f64 {
+        h / self.ts + 1.0
+    }
+
+    /// The core's validation and invariants, and a sample clock that matches them.
+    fn validate_state(&self) -> Result<(), String> {
+        self.ctrl.validate_state()?;
+        if self.ts.to_bits() != self.ctrl.params().ts.to_bits() {
+            return Err("the sample period does not match the parameters".into());
+        }
+        if self.t_base.is_some_and(|t| !t.is_finite()) || self.k_next > u64::MAX / 2 {
+            return Err("the sample clock is invalid".into());
+        }
+        let o = &self.last;
+        if ![o.u, o.e, o.z1, o.z2, o.z3].iter().all(|x| x.is_finite()) {
+            return Err("the last outputs are not finite".into());
+        }
+        Ok(())
+    }
 }
 
 impl TableModel for ChatterController {

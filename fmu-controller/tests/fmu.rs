@@ -267,3 +267,11 @@ fn parameter_assignments_reproduce_a_preset_through_the_variable_table() {
     let m = ChatterController::initialize(&v, &Environment::default()).unwrap();
     assert_eq!(*m.params(), table2);
 }
+
+#[test]
+fn a_huge_step_costs_more_than_the_layers_work_bound() {
+    let v = values(Structure::Pid, FractionalMethod::GrunwaldLetnikov);
+    let c = ChatterController::initialize(&v, &Environment::default()).unwrap();
+    assert!(c.internal_steps(1e6) > fmi2_export::MAX_INTERNAL_STEPS_PER_CALL);
+    assert!(c.internal_steps(1.0) <= fmi2_export::MAX_INTERNAL_STEPS_PER_CALL);
+}

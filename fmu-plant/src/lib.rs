@@ -182,6 +182,16 @@ impl Fmi2Model for MillingPlant {
         TABLE.write_outputs(&o, v);
         Ok(())
     }
+
+    /// One RK4 step per cell of `internal_step`, plus one partial step at either end.
+    fn internal_steps(&self, h: f64) -> f64 {
+        h / self.plant.params().internal_step + 2.0
+    }
+
+    /// The core's parameter validation and state invariants.
+    fn validate_state(&self) -> Result<(), String> {
+        self.plant.validate_state()
+    }
 }
 
 impl TableModel for MillingPlant {

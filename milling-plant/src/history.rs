@@ -9,6 +9,12 @@
 //! as accurate as the RK4 integrator uses it). At constant speed `t − t* = 60/(Z N)` exactly.
 //! Before the first sample the surface is taken as flat (`x = 0`): the cut starts on a fresh,
 //! non-wavy surface.
+//!
+//! Memory is bounded for every input: a sample at the same angle as the two before it replaces
+//! the newest of them (no lookup can need the middle one of three equal angles, so at 0 rpm the
+//! history stays at a few samples, and lookups are bitwise unchanged), and the buffer never holds
+//! more than [`MAX_SAMPLES`] (the plant refuses to cut at speeds whose tooth period would not
+//! fit, see `Plant::min_cutting_speed_rpm`).
 
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
@@ -26,6 +32,9 @@ pub struct Sample {
     pub v: f64,
 }
 
+/// The most samples the history holds (8 MiB); older ones are dropped.
+pub const MAX_SAMPLES: usize = 1 << 18;
+
 /// The history buffer.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct History {
@@ -33,10 +42,20 @@ pub struct History {
 }
 
 impl History {
-    /// Append a sample (angles must not decrease).
+    /// Append a sample (angles must not decrease). Of three or more samples at one angle only
+    /// the first and the newest can be the bracket of a lookup: the newest replaces the last.
+    #[allow(clippy::float_cmp)] // exact: only samples at the identical angle are interchangeable
     pub fn push(&mut self, s: Sample) {
         debug_assert!(self.buf.back().is_none_or(|b| b.theta <= s.theta));
-        self.buf.push_back(s);
+        let n = self.buf.len();
+        if n >= 2 && self.buf[n - 1].theta == s.theta && self.buf[n - 2].theta == s.theta {
+            self.buf[n - 1] = s;
+        } else {
+            self.buf.push_back(s);
+        }
+        if self.buf.len() > MAX_SAMPLES {
+            self.buf.pop_front();
+        }
     }
 
     /// Drop samples no lookup at angle ≥ `theta_min` needs.
@@ -46,9 +65,31 @@ impl History {
         }
     }
 
+    /// Are the samples usable by lookups: finite, at most [`MAX_SAMPLES`], times and
+    /// angles non-decreasing? (A restored FMU state is checked with this.)
+    pub fn validate(&self) -> Result<(), String> {
+        if self.buf.len() > MAX_SAMPLES {
+            return Err(format!("history holds {} samples, more than {MAX_SAMPLES}", self.buf.len()));
+        }
+        for (i, s) in self.buf.iter().enumerate() {
+            if !(s.t.is_finite() && s.theta.is_finite() && s.x.is_finite() && s.v.is_finite()) {
+                return Err(format!("history sample {i} is not finite"));
+            }
+            if i > 0 && !(s.t >= self.buf[i - 1].t && s.theta >= self.buf[i - 1].theta) {
+                return Err(format!("history sample {i} is out of order"));
+            }
+        }
+        Ok(())
+    }
+
     /// Number of stored samples.
     pub fn len(&self) -> usize {
         self.buf.len()
+    }
+
+    /// The newest sample.
+    pub fn newest(&self) -> Option<&Sample> {
+        self.buf.back()
     }
 
     /// Is the history empty?
@@ -100,5 +141,43 @@ mod tests {
         assert!(h.at_angle(-0.1).is_none());
         h.prune(omega * 1.0);
         assert!(h.len() < 20 && h.at_angle(omega * 1.0).is_some());
+        assert!(h.validate().is_ok());
+    }
+
+    #[test]
+    fn samples_at_one_angle_do_not_accumulate_and_lookups_do_not_change() {
+        // a run at speed, then a long stop (0 rpm: the angle stays), as the plant pushes it
+        let mut all = History::default();
+        let mut coalesced = History::default();
+        let mut push = |s: Sample| {
+            coalesced.push(s);
+            all.buf.push_back(s);
+        };
+        for k in 0..100 {
+            let t = 1e-3 * k as f64;
+            push(Sample { t, theta: 10.0 * t.min(0.05), x: t.sin(), v: t.cos() });
+        }
+        assert!(coalesced.len() < 60, "{} samples", coalesced.len());
+        for q in [0.0, 0.1, 0.25, 0.4999, 0.5, 0.7] {
+            assert_eq!(format!("{:?}", all.at_angle(q)), format!("{:?}", coalesced.at_angle(q)), "angle {q}");
+        }
+        for k in 0..(2 * MAX_SAMPLES) {
+            coalesced.push(Sample { t: 1.0 + k as f64, theta: 0.5, x: 0.0, v: 0.0 });
+        }
+        assert!(coalesced.len() < 60);
+        assert!(coalesced.validate().is_ok());
+    }
+
+    #[test]
+    fn the_history_never_exceeds_its_bound_and_bad_samples_are_found() {
+        let mut h = History::default();
+        for k in 0..(MAX_SAMPLES + 10) {
+            h.push(Sample { t: k as f64, theta: k as f64, x: 0.0, v: 0.0 });
+        }
+        assert_eq!(h.len(), MAX_SAMPLES);
+        h.buf[3].t = -1.0;
+        assert!(h.validate().unwrap_err().contains("order"));
+        h.buf[3].t = f64::NAN;
+        assert!(h.validate().unwrap_err().contains("finite"));
     }
 }

@@ -70,6 +70,24 @@ impl BandLimitedNoise {
         BandLimitedNoise { rng: ChaCha8Rng::seed_from_u64(seed), sections, gain: rms / energy.sqrt() }
     }
 
+    /// Is this the filter `fresh` (built from the same parameters) describes, with a finite
+    /// state? (Checked when a saved plant state is restored.)
+    pub fn matches(&self, fresh: &BandLimitedNoise) -> Result<(), String> {
+        let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        for (a, b) in self.sections.iter().zip(&fresh.sections) {
+            if bits(&a.b) != bits(&b.b) || bits(&a.a) != bits(&b.a) {
+                return Err("noise filter coefficients do not match the parameters".into());
+            }
+            if !a.s.iter().all(|x| x.is_finite()) {
+                return Err("noise filter state is not finite".into());
+            }
+        }
+        if self.gain.to_bits() != fresh.gain.to_bits() {
+            return Err("noise gain does not match the parameters".into());
+        }
+        Ok(())
+    }
+
     /// The next sample [N].
     pub fn next_sample(&mut self) -> f64 {
         let w: f64 = StandardNormal.sample(&mut self.rng);

@@ -19,7 +19,7 @@
 //! the internal step see bitwise-identical trajectories. A step ending inside a cell runs a
 //! partial RK4 step to the communication point and the next step completes the cell.
 
-use crate::history::{History, Sample};
+use crate::history::{History, MAX_SAMPLES, Sample};
 use crate::noise::BandLimitedNoise;
 use crate::params::{CuttingModel, Mode, PlantParams};
 use serde::{Deserialize, Serialize};
@@ -204,9 +204,78 @@ impl Plant {
         Ok(())
     }
 
+    /// Number of samples in the regenerative history (bounded by [`MAX_SAMPLES`]).
+    pub fn history_len(&self) -> usize {
+        self.history.len()
+    }
+
+    /// The lowest spindle speed [rpm] at which the plant cuts: one tooth period must fit in half
+    /// the history (`MAX_SAMPLES / 2` internal steps; 11.4 rpm for 4 teeth at 10 µs). A step
+    /// cutting more slowly (but above 0 rpm) is refused as an invalid input.
+    pub fn min_cutting_speed_rpm(&self) -> f64 {
+        60.0 / (self.p.cutting.teeth as f64 * (MAX_SAMPLES / 2) as f64 * self.p.internal_step)
+    }
+
+    /// Is this a state the plant can continue from? The parameters pass [`PlantParams::validate`]
+    /// (as at construction), the derived quantities are those the parameters give, the state,
+    /// time and outputs are finite, the grid position lies in its cell, and the history is
+    /// ordered, bounded and ends at the current instant. Run on every restored FMU state.
+    pub fn validate_state(&self) -> Result<(), String> {
+        let p = &self.p;
+        p.validate()?;
+        let same = |a: f64, b: f64| a.to_bits() == b.to_bits();
+        let (dir, eng) = (p.direction(), p.engagement());
+        if self.modes != p.mode_list()
+            || !same(self.dir.0, dir.0)
+            || !same(self.dir.1, dir.1)
+            || !same(self.alpha0, p.directional_coefficient())
+            || !same(self.static_coef, p.static_force_coefficient())
+            || !same(self.engagement.0, eng.0)
+            || !same(self.engagement.1, eng.1)
+        {
+            return Err("derived plant quantities do not match the parameters".into());
+        }
+        let s = &self.state;
+        if !(s.q.iter().chain(&s.qd).chain(&s.z).all(|x| x.is_finite()) && self.tip().abs() < 1.0) {
+            return Err("the mechanical state is not finite or out of range".into());
+        }
+        if !(self.t0.is_finite() && self.offset >= 0.0 && self.offset < p.internal_step && self.time().is_finite()) {
+            return Err("the time or the grid position is invalid".into());
+        }
+        if !(self.theta.is_finite() && self.theta >= 0.0 && self.noise_now.is_finite()) {
+            return Err("the tool angle or the noise sample is not finite".into());
+        }
+        let o = &self.out;
+        let outs = [o.x, o.v, o.cutting_force, o.actuator_force, o.disturbance_force, o.chip_thickness, o.tool_angle];
+        if !(outs.iter().all(|x| x.is_finite()) && o.delay.is_finite() && o.delay >= 0.0) {
+            return Err("the outputs are not finite".into());
+        }
+        self.history.validate()?;
+        if self.history.newest().is_none_or(|n| !same(n.t, self.time()) || !same(n.theta, self.theta)) {
+            return Err("the history does not end at the current instant".into());
+        }
+        let d = &p.disturbance;
+        match (&self.noise, d.noise && d.noise_rms > 0.0) {
+            (None, false) => Ok(()),
+            (Some(n), true) => {
+                n.matches(&BandLimitedNoise::new(p.seed, d.noise_rms, d.noise_bandwidth, p.internal_step))
+            }
+            _ => Err("the noise generator does not match the parameters".into()),
+        }
+    }
+
     /// Advance by `h` [s] with the inputs held.
     pub fn step(&mut self, h: f64, inputs: &PlantInputs) -> Result<(), PlantError> {
         check_inputs(inputs)?;
+        let c = &self.p.cutting;
+        let n = inputs.spindle_speed_rpm;
+        if c.enabled && c.axial_depth > 0.0 && n > 0.0 && n < self.min_cutting_speed_rpm() {
+            return Err(PlantError::Input(format!(
+                "spindle_speed = {n} rpm is below the lowest cutting speed {} rpm (one tooth period must fit \
+                 in the regenerative history); use 0 rpm to stop",
+                self.min_cutting_speed_rpm()
+            )));
+        }
         if !(h.is_finite() && h >= 0.0) {
             return Err(PlantError::Input(format!("step size {h} must be finite and >= 0")));
         }

@@ -106,6 +106,10 @@ impl Fmi2Model for Oscillator {
         self.update_outputs(values);
         Ok(())
     }
+
+    fn internal_steps(&self, h: f64) -> f64 {
+        (h / 1e-3).round().max(1.0)
+    }
 }
 
 fmi2_export::export_fmi2!(crate::common::Oscillator);

@@ -1,0 +1,193 @@
+//! Regression tests of the plant FMU against hostile calls: a bounded amount of work per
+//! `fmi2DoStep`, and bounded memory for every input in its declared range.
+
+use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink};
+use fmi2_export::{Environment, Fmi2Model, MAX_INTERNAL_STEPS_PER_CALL};
+use fmu_plant::MillingPlant;
+use model_description::{ScalarType, Value};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+/// Collects the messages an instance sends to its host.
+#[derive(Clone, Default)]
+struct Log(Arc<Mutex<Vec<String>>>);
+impl LogSink for Log {
+    fn emit(&mut self, _level: LogLevel, _category: &str, message: &str) {
+        self.0.lock().unwrap().push(message.to_string());
+    }
+}
+
+fn vr(name: &str) -> u32 {
+    MillingPlant::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
+}
+
+/// An initialized plant instance (no stop time) with `reals` set before initialization.
+fn ready(reals: &[(&str, f64)]) -> (Instance<MillingPlant>, Log) {
+    let log = Log::default();
+    let mut inst = Instance::<MillingPlant>::new(Environment::default(), false, Box::new(log.clone()));
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.enter_initialization().unwrap();
+    for (name, x) in reals {
+        inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(*x)]).unwrap();
+    }
+    inst.exit_initialization().unwrap();
+    (inst, log)
+}
+
+#[test]
+fn a_huge_step_without_stop_time_is_refused_at_once_not_run() {
+    let (mut inst, _) = ready(&[]);
+    let t = Instant::now();
+    let err = inst.do_step(0.0, 1e6).unwrap_err();
+    assert!(t.elapsed().as_secs_f64() < 1.0, "refused after {:?}", t.elapsed());
+    let CallError::Error(m) = err else { panic!("expected fmi2Error, got {err:?}") };
+    assert!(m.contains("internal steps") && m.contains("limit"), "{m}");
+    // an ordinary step is still accepted
+    let (mut inst, _) = ready(&[]);
+    assert!(inst.do_step(0.0, 0.1).is_ok());
+}
+
+#[test]
+fn the_bound_follows_the_internal_step_parameter() {
+    // at a 0.1 ms grid a 100 s step is 1e6 internal steps: allowed; 1e4 s is 1e8: refused
+    let (inst, _) = ready(&[("internal_step", 1e-4)]);
+    let m = inst.model().unwrap();
+    assert!(m.internal_steps(100.0) <= MAX_INTERNAL_STEPS_PER_CALL);
+    assert!(m.internal_steps(1e4) > MAX_INTERNAL_STEPS_PER_CALL);
+}
+
+fn set(inst: &mut Instance<MillingPlant>, name: &str, x: f64) {
+    inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(x)]).unwrap();
+}
+
+/// (history samples, serialized FMU state bytes)
+fn footprint(inst: &Instance<MillingPlant>) -> (usize, usize) {
+    (inst.model().unwrap().plant().history_len(), inst.snapshot().serialize().unwrap().len())
+}
+
+#[test]
+fn sixty_seconds_at_0_rpm_run_in_flat_memory() {
+    let (mut inst, _) = ready(&[]);
+    let h = 1e-3;
+    // cut for 0.1 s at the default speed, then stop the spindle for 60 s
+    for k in 0..100 {
+        inst.do_step(k as f64 * h, h).unwrap();
+    }
+    set(&mut inst, "spindle_speed", 0.0);
+    let mut at_5s = (0, 0);
+    for k in 100..60_100 {
+        inst.do_step(k as f64 * h, h).unwrap();
+        if k == 5_100 {
+            at_5s = footprint(&inst);
+        }
+    }
+    let at_60s = footprint(&inst);
+    println!("0 rpm: history samples / serialized state bytes after 5 s {at_5s:?}, after 60 s {at_60s:?}");
+    // before the fix: +500 000 samples (16 MB of state) per 5 s
+    assert_eq!(at_5s.0, at_60s.0, "the history grows at 0 rpm");
+    // (the counters' variable-length encoding may add a few bytes)
+    assert!(at_60s.1 <= at_5s.1 + 16, "the state grows at 0 rpm: {at_5s:?} -> {at_60s:?}");
+    assert!(at_60s.0 < 1000 && at_60s.1 < 100_000, "{at_60s:?}");
+    // and the spindle starts again on the surface it left
+    set(&mut inst, "spindle_speed", 2000.0);
+    assert!(inst.do_step(60.1, 0.01).is_ok());
+}
+
+#[test]
+fn cutting_below_the_lowest_speed_is_refused_not_buffered_without_bound() {
+    let (mut inst, _) = ready(&[]);
+    let n_min = inst.model().unwrap().plant().min_cutting_speed_rpm();
+    assert!(n_min > 1.0 && n_min < 20.0, "{n_min}");
+    set(&mut inst, "spindle_speed", n_min / 2.0);
+    let err = inst.do_step(0.0, 1e-3).unwrap_err();
+    let CallError::Discard(m) = err else { panic!("expected fmi2Discard, got {err:?}") };
+    assert!(m.contains("lowest cutting speed"), "{m}");
+    let (mut inst, _) = ready(&[]);
+    set(&mut inst, "spindle_speed", n_min * 1.01);
+    assert!(inst.do_step(0.0, 1e-3).is_ok());
+}
+
+/// A serialized state after 10 ms of cutting at the default speed (noise on).
+fn saved_state() -> Vec<u8> {
+    let (mut inst, _) = ready(&[]);
+    for k in 0..10 {
+        inst.do_step(k as f64 * 1e-3, 1e-3).unwrap();
+    }
+    inst.snapshot().serialize().unwrap()
+}
+
+/// Replace the trailing checksum, so that only the validation can refuse the bytes.
+fn reseal(bytes: &mut [u8]) {
+    let n = bytes.len() - 8;
+    let sum = fmi2_export::fnv1a64(&bytes[..n]);
+    bytes[n..].copy_from_slice(&sum.to_le_bytes());
+}
+
+/// Every occurrence of the double `from` replaced, one at a time, by `to`: each must be refused.
+fn each_copy_refused(bytes: &[u8], from: f64, to: f64, what: &str) -> usize {
+    let pat = from.to_le_bytes();
+    let hits: Vec<usize> = bytes.windows(8).enumerate().filter(|(_, w)| *w == pat).map(|(i, _)| i).collect();
+    for &at in &hits {
+        let mut bad = bytes.to_vec();
+        bad[at..at + 8].copy_from_slice(&to.to_le_bytes());
+        reseal(&mut bad);
+        match fmi2_export::instance::Snapshot::<MillingPlant>::deserialize(&bad) {
+            Err(CallError::Error(m)) => assert!(m.contains("invalid state"), "{what}: {m}"),
+            other => panic!("{what} at byte {at} accepted: {:?}", other.is_ok()),
+        }
+    }
+    hits.len()
+}
+
+#[test]
+fn a_valid_saved_state_passes_validation() {
+    let bytes = saved_state();
+    assert!(fmi2_export::instance::Snapshot::<MillingPlant>::deserialize(&bytes).is_ok());
+}
+
+#[test]
+fn restored_states_with_a_zero_internal_step_or_negative_f_max_are_refused() {
+    let bytes = saved_state();
+    // before: internal_step = 0 hung the next step, f_max < 0 panicked in clamp
+    assert!(each_copy_refused(&bytes, 1e-5, 0.0, "internal_step = 0") >= 2);
+    assert!(each_copy_refused(&bytes, 27.0, -1.0, "f_max = -1") >= 2);
+}
+
+#[test]
+fn a_restored_state_with_a_disordered_history_is_refused() {
+    let bytes = saved_state();
+    // history sample times are cell·T: the sample at 5 ms moved after the present
+    assert_eq!(each_copy_refused(&bytes, 500.0 * 1e-5, 1.0, "history sample out of order"), 1);
+    assert!(each_copy_refused(&bytes, 500.0 * 1e-5, f64::NAN, "history sample not finite") >= 1);
+}
+
+#[test]
+fn randomly_corrupted_resealed_states_never_panic_or_hang() {
+    let bytes = saved_state();
+    let mut rng = 0x2545_f491_4f6c_dd1d_u64;
+    let (mut refused, mut loaded) = (0, 0);
+    for _ in 0..2000 {
+        let mut bad = bytes.clone();
+        for _ in 0..3 {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            let i = (rng % (bad.len() as u64 - 8)) as usize;
+            bad[i] ^= 1 << (rng >> 60 & 7);
+        }
+        reseal(&mut bad);
+        match fmi2_export::instance::Snapshot::<MillingPlant>::deserialize(&bad) {
+            Err(_) => refused += 1,
+            Ok(snap) => {
+                loaded += 1;
+                let (mut inst, _) = ready(&[]);
+                inst.restore(&snap);
+                let t = inst.time();
+                let started = Instant::now();
+                let _ = inst.do_step(t, 1e-3);
+                assert!(started.elapsed().as_secs_f64() < 2.0);
+            }
+        }
+    }
+    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
+}
