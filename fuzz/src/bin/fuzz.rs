@@ -5,7 +5,8 @@
 //! Without `--target`, every target runs in a child process of its own (a
 //! hung input's thread cannot be stopped; it ends with its process), one
 //! after the other, sharing the time: a target that stops early (after
-//! [`fuzz_targets::MAX_HANGS`] hangs) leaves its time to the next ones.
+//! [`fuzz_targets::MAX_HANGS`] hangs) starts again with another seed until
+//! its share of the time is used.
 //! Findings (panics, hangs) are written to `fuzz/regressions/` and the
 //! process exits with status 1.
 
@@ -59,13 +60,21 @@ fn main() {
     let t0 = Instant::now();
     let mut failed = false;
     for (k, target) in targets::ALL.iter().enumerate() {
-        let left = total.saturating_sub(t0.elapsed()).as_secs_f64() / (targets::ALL.len() - k) as f64;
-        let status = std::process::Command::new(std::env::current_exe().expect("this program"))
-            .args(["--target", target.name, "--minutes", &format!("{}", left / 60.0)])
-            .args(["--seed", &seed.wrapping_add(k as u64).to_string(), "--limit-ms", &limit_ms.to_string()])
-            .status()
-            .expect("running a target");
-        failed |= !status.success();
+        let slice = total.saturating_sub(t0.elapsed()) / (targets::ALL.len() - k) as u32;
+        let end = Instant::now() + slice;
+        // A target that stopped early (hangs) starts again with another seed until its time is up.
+        let mut attempt = 0u64;
+        while end.saturating_duration_since(Instant::now()) > Duration::from_secs(1) {
+            let left = end.saturating_duration_since(Instant::now()).as_secs_f64();
+            let seed = seed.wrapping_add(k as u64).wrapping_add(1000 * attempt);
+            let status = std::process::Command::new(std::env::current_exe().expect("this program"))
+                .args(["--target", target.name, "--minutes", &format!("{}", left / 60.0)])
+                .args(["--seed", &seed.to_string(), "--limit-ms", &limit_ms.to_string()])
+                .status()
+                .expect("running a target");
+            failed |= !status.success();
+            attempt += 1;
+        }
     }
     println!(
         "{:.1} min in all; {}",
