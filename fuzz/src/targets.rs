@@ -184,7 +184,12 @@ pub const FMU_STATE: Target = Target {
     // added in fmi2-export and the adapters): out-of-range values reach the
     // cores' `clamp` and history indices. Kept in fuzz/regressions/ with
     // ignored tests (tests/regressions.rs).
-    known_panics: &["min > max, or either was NaN", "index out of bounds"],
+    known_panics: &[
+        "min > max, or either was NaN",
+        "index out of bounds",
+        "Out of bounds access",
+        "out of range for slice",
+    ],
     // …and a step on a restored state can run for minutes (no per-call work bound yet).
     known_hangs: true,
     run: |data| {

@@ -16,6 +16,10 @@ const KNOWN_EXPORT_PANICS: &[&str] = &[
     "fmu_state-602baf2b07960e57.bin",
     // chatter-control/src/controller.rs:126 `f64::clamp` with min > max (restored controller)
     "fmu_state-9f11ad122649d6c1.bin",
+    // milling-plant/src/history.rs:71 "Out of bounds access" (restored plant history)
+    "fmu_state-695f621c8a05febc.bin",
+    // milling-plant/src/plant.rs:244 range end index 12 out of range for slice of length 3 (restored plant)
+    "fmu_state-b4f1b2c284e9092a.bin",
     // fmi2DoStep on a restored state does not return within 10 s (no per-call work bound yet)
     "fmu_state-bde7e923b144b05b.bin",
     // controller: setup at start 2000 s after a first step; the next fmi2DoStep catches up
