@@ -2,6 +2,20 @@
 //! `"time"` first, then one row per output point; numbers in the shortest
 //! form that reads back to the same double (integral values without a
 //! fraction, booleans as 0/1).
+//!
+//! ## Crash safety and the completion marker
+//! The header reaches the file as soon as the run starts, and rows are
+//! flushed every [`FLUSH_ROWS`] rows and whenever [`FLUSH_INTERVAL`] has
+//! passed since the last flush, so a run that dies (an FMU that segfaults
+//! or calls `exit`) leaves every row up to the last flush.
+//!
+//! The CSV itself stays a plain numeric CSV (FMPy's `read_csv`, pandas and
+//! numpy read it unchanged). Whether the run finished is told by a sidecar
+//! file, [`incomplete_marker`] (`<csv>.incomplete`): [`CsvWriter::create`]
+//! writes it, [`CsvWriter::complete`] (called only after a successful run)
+//! removes it. A CSV with its `.incomplete` file beside it holds an
+//! interrupted or failed run; the marker's text says why when the master
+//! could still tell ([`CsvWriter::mark_failed`]).
 
 use crate::error::SimError;
 use crate::observer::Observer;
@@ -25,33 +39,78 @@ pub fn format_value(x: f64) -> String {
     }
 }
 
+/// Rows written between two flushes at most.
+pub const FLUSH_ROWS: u64 = 256;
+/// Longest time rows stay in the buffer (checked at every row).
+pub const FLUSH_INTERVAL: Duration = Duration::from_millis(200);
+
+/// The sidecar file that marks `csv` as the results of a run that has not
+/// (yet, or ever) finished: `<csv>.incomplete`.
+pub fn incomplete_marker(csv: &Path) -> PathBuf {
+    let mut name = csv.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(".incomplete");
+    csv.with_file_name(name)
+}
+
 /// An [`Observer`] writing a CSV file as the run goes. Memory is constant;
-/// the file is flushed at least every half second and when the run ends
-/// (also when it fails), so a failed run keeps the rows it had.
+/// the header is flushed at once, rows every [`FLUSH_ROWS`] rows or
+/// [`FLUSH_INTERVAL`], and everything when the run ends (also when it
+/// fails), so a failed or killed run keeps the rows it had. The sidecar
+/// [`incomplete_marker`] exists until [`CsvWriter::complete`].
 pub struct CsvWriter {
     path: PathBuf,
     out: BufWriter<std::fs::File>,
     last_flush: Instant,
     rows: u64,
+    unflushed: u64,
     line: String,
 }
 
 impl CsvWriter {
-    /// Create (truncate) the file.
+    /// Create (truncate) the file and write its [`incomplete_marker`].
     pub fn create(path: &Path) -> Result<CsvWriter, SimError> {
         if let Some(dir) = path.parent()
             && !dir.as_os_str().is_empty()
         {
             std::fs::create_dir_all(dir).map_err(|error| SimError::Output { path: dir.to_path_buf(), error })?;
         }
+        let marker = incomplete_marker(path);
+        std::fs::write(&marker, "the run writing this CSV has not finished (it is running, failed or was killed)\n")
+            .map_err(|error| SimError::Output { path: marker, error })?;
         let f = std::fs::File::create(path).map_err(|error| SimError::Output { path: path.to_path_buf(), error })?;
         Ok(CsvWriter {
             path: path.to_path_buf(),
             out: BufWriter::with_capacity(1 << 16, f),
             last_flush: Instant::now(),
             rows: 0,
+            unflushed: 0,
             line: String::new(),
         })
+    }
+
+    /// The run finished: flush, and remove the [`incomplete_marker`].
+    pub fn complete(&mut self) -> Result<(), SimError> {
+        self.flush()?;
+        let marker = incomplete_marker(&self.path);
+        match std::fs::remove_file(&marker) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(SimError::Output { path: marker, error: e }),
+            _ => Ok(()),
+        }
+    }
+
+    /// The run failed: flush, and say why in the [`incomplete_marker`].
+    pub fn mark_failed(&mut self, reason: &str) -> Result<(), SimError> {
+        self.flush()?;
+        let marker = incomplete_marker(&self.path);
+        std::fs::write(&marker, format!("the run writing this CSV failed: {reason}\n"))
+            .map_err(|error| SimError::Output { path: marker, error })
+    }
+
+    fn flush(&mut self) -> Result<(), SimError> {
+        self.out.flush().map_err(|e| self.err(e))?;
+        self.last_flush = Instant::now();
+        self.unflushed = 0;
+        Ok(())
     }
 
     /// Rows written so far.
@@ -72,7 +131,8 @@ impl Observer for CsvWriter {
     fn start(&mut self, names: &[String]) -> Result<(), SimError> {
         let mut header = vec![quote("time")];
         header.extend(names.iter().map(|n| quote(n)));
-        writeln!(self.out, "{}", header.join(",")).map_err(|e| self.err(e))
+        writeln!(self.out, "{}", header.join(",")).map_err(|e| self.err(e))?;
+        self.flush()
     }
 
     fn sample(&mut self, t: f64, values: &[f64]) -> Result<(), SimError> {
@@ -86,15 +146,15 @@ impl Observer for CsvWriter {
         self.line.push('\n');
         self.out.write_all(self.line.as_bytes()).map_err(|e| self.err(e))?;
         self.rows += 1;
-        if self.rows.is_multiple_of(256) && self.last_flush.elapsed() > Duration::from_millis(500) {
-            self.out.flush().map_err(|e| self.err(e))?;
-            self.last_flush = Instant::now();
+        self.unflushed += 1;
+        if self.unflushed >= FLUSH_ROWS || self.last_flush.elapsed() >= FLUSH_INTERVAL {
+            self.flush()?;
         }
         Ok(())
     }
 
     fn finish(&mut self) -> Result<(), SimError> {
-        self.out.flush().map_err(|e| self.err(e))
+        self.flush()
     }
 }
 
@@ -192,12 +252,40 @@ mod tests {
         w.sample(1e-5, &[-3.25e-7, 27.0]).unwrap();
         // Before finish(), rows may still be buffered; after it they are on disk.
         w.finish().unwrap();
+        assert!(incomplete_marker(&p).is_file(), "finish() alone does not say the run succeeded");
+        w.complete().unwrap();
+        assert!(!incomplete_marker(&p).exists());
         let text = std::fs::read_to_string(&p).unwrap();
         assert_eq!(text, "\"time\",\"plant.x\",\"controller.u\"\n0,1e-6,0\n1e-5,-3.25e-7,27\n");
         let t = read_csv(&p).unwrap();
         assert_eq!(t.names, vec!["time", "plant.x", "controller.u"]);
         assert_eq!(t.column("controller.u").unwrap(), &[0.0, 27.0]);
         assert_eq!(t.column("time").unwrap()[1], 1e-5);
+    }
+
+    /// The header waited in a 64 KiB buffer and rows were flushed only every
+    /// 256th row after half a second: a crash early in a run left an empty file.
+    #[test]
+    fn header_and_rows_reach_the_file_without_finish() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.csv");
+        let mut w = CsvWriter::create(&p).unwrap();
+        assert_eq!(incomplete_marker(&p), dir.path().join("r.csv.incomplete"));
+        assert!(incomplete_marker(&p).is_file());
+        w.start(&["x".into()]).unwrap();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "\"time\",\"x\"\n");
+        for i in 0..FLUSH_ROWS {
+            w.sample(i as f64, &[1.0]).unwrap();
+        }
+        assert_eq!(read_csv(&p).unwrap().columns[0].len() as u64, FLUSH_ROWS, "flushed by count");
+        w.sample(1e3, &[2.0]).unwrap();
+        std::thread::sleep(FLUSH_INTERVAL + Duration::from_millis(20));
+        w.sample(1e4, &[3.0]).unwrap();
+        assert_eq!(read_csv(&p).unwrap().column("x").unwrap().last(), Some(&3.0), "flushed by time");
+        w.mark_failed("an FMU failed").unwrap();
+        assert!(std::fs::read_to_string(incomplete_marker(&p)).unwrap().contains("an FMU failed"));
+        drop(w);
+        assert!(incomplete_marker(&p).is_file(), "only complete() removes the marker");
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! # fmi-master — an FMI 2.0 Co-Simulation master with SSP 1.0 system files
 //!
-//! * [`import`]: safe import of any FMI 2.0 CS `.fmu` (its `ffi` module is
-//!   the only code with `unsafe`; the FMI logger's variadic callback is a
+//! * [`import`]: safe import of any FMI 2.0 CS `.fmu` (its `ffi` and
+//!   `process` modules are the only code with `unsafe`; the FMI logger's variadic callback is a
 //!   small C shim).
 //! * [`system`]: where a system comes from (`.ssp`, `.ssd`, SSD text, a
 //!   single `.fmu`; the SSP layer is the [`ssp`] crate, archives go through

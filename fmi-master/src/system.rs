@@ -8,6 +8,7 @@
 //! fallback for `resources/X.fmu` sources.
 
 use crate::error::{FmuError, SetupError, SimError};
+use crate::import::process::ScratchDir;
 use fmi_archive::safe_entry_path;
 use ssp::{ComponentDesc, SystemDescription};
 use std::path::{Path, PathBuf};
@@ -16,7 +17,7 @@ enum Base {
     /// Sources are relative to this directory (a bare `.ssd`'s folder).
     Dir(PathBuf),
     /// An extracted `.ssp` archive.
-    Extracted(tempfile::TempDir),
+    Extracted(ScratchDir),
     /// A single FMU, used as it is.
     Single(PathBuf),
 }
@@ -47,8 +48,10 @@ impl SystemFile {
         let fmu_dir = fmu_dir.map(Path::to_path_buf);
         match ext.as_str() {
             "ssp" => {
-                let dir = tempfile::Builder::new().prefix("fmi-master-ssp-").tempdir().map_err(|error| {
-                    FmuError::Io { context: "cannot create a temporary directory for", path: path.to_path_buf(), error }
+                let dir = ScratchDir::new("fmi-master-ssp-").map_err(|error| FmuError::Io {
+                    context: "cannot create a temporary directory for",
+                    path: path.to_path_buf(),
+                    error,
                 })?;
                 let desc = ssp::extract_ssp(path, dir.path())?;
                 Ok(SystemFile { desc, base: Base::Extracted(dir), fmu_dir: None, origin })

@@ -204,6 +204,8 @@ fn run_one(
     };
     let stats =
         sim.run(&mut obs, progress).map_err(|e| StudyError::from(e).within(format!("run {} (seed {seed})", case.0)))?;
+    // The run finished: remove the CSV's `.incomplete` marker.
+    obs.csv.complete()?;
     let rms = (obs.sumsq / obs.n as f64).sqrt();
     let spectrum = single_sided(&obs.spec, 1.0 / (h * spec_every as f64)).up_to(400.0);
     let peak = |f: Option<f64>, w: f64| f.and_then(|f| spectrum.peak_in(f - w, f + w)).map(|p| p.1).unwrap_or(f64::NAN);

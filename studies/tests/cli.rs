@@ -107,6 +107,13 @@ fn a_short_main_job_writes_its_table_csvs_and_plots() {
     let t = fmi_master::csv::read_csv(&run_csv).unwrap();
     assert_eq!(t.names, vec!["time", "plant.x", "controller.u"]);
     assert_eq!(t.columns[0].len(), 501, "0.05 s at the 0.1 ms CSV interval");
+    let markers: Vec<_> = std::fs::read_dir(out.join("runs"))
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".incomplete"))
+        .map(|e| e.file_name())
+        .collect();
+    assert!(markers.is_empty(), "finished runs keep no .incomplete marker: {markers:?}");
     let summary = std::fs::read_to_string(out.join("runs_summary.csv")).unwrap();
     assert_eq!(summary.lines().count(), 1 + 4 * 2, "{summary}");
     std::fs::remove_dir_all(&out).unwrap();

@@ -10,10 +10,17 @@
 //! SYSTEM is an `.ssp`, an `.ssd` or a single `.fmu`; an `.ssd`'s component
 //! sources `resources/X.fmu` are looked up in `--fmu-dir` (default `$FMU_DIR`). Errors print a message (with the
 //! FMU's own log lines for FMU failures), each cause once, and exit with status 1.
+//!
+//! `run` streams its CSV with a sidecar `<csv>.incomplete` that is removed only
+//! when the run succeeds (see `fmi_master::csv`). An FMU calling `exit()` during
+//! the run ends `cosim` with status 3 (`EXIT_DURING_RUN`) and an error message;
+//! SIGINT/SIGTERM/SIGHUP end it with 128 + the signal. On every path the process
+//! survives, the extraction directories are removed.
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use fmi_master::engine::{Progress, RunConfig, Simulation};
+use fmi_master::import::process::{RunInProgress, install_exit_guard, install_signal_cleanup};
 use fmi_master::overrides::Override;
 use fmi_master::plot::Mark;
 use fmi_master::ssp::Order;
@@ -154,7 +161,23 @@ fn run(a: RunArgs) -> Result<()> {
     let mut sim = Simulation::new(&sys, &cfg)?;
     let mut csv = fmi_master::csv::CsvWriter::create(&a.output)?;
     let progress = if a.quiet { Progress::Off } else { Progress::Auto };
-    let stats = sim.run(&mut csv, progress)?;
+    let stats = {
+        // An FMU's exit() from here on ends cosim with an error, not success.
+        let _running = RunInProgress::start();
+        sim.run(&mut csv, progress)
+    };
+    let stats = match stats {
+        Ok(stats) => {
+            csv.complete()?;
+            stats
+        }
+        Err(e) => {
+            let e = anyhow::Error::from(e);
+            // The marker stays either way; this only adds the reason to it.
+            let _ = csv.mark_failed(&report(&e));
+            return Err(e);
+        }
+    };
     if !a.quiet {
         let comps: Vec<String> = sim.components().iter().map(|(n, id)| format!("{n} ({id})")).collect();
         eprintln!(
@@ -268,6 +291,10 @@ fn report(e: &anyhow::Error) -> String {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    install_exit_guard();
+    if !install_signal_cleanup() {
+        eprintln!("warning: no signal handlers: an interrupted run may leave temporary directories behind");
+    }
     let r = match cli.cmd {
         Cmd::Run(a) => run(a),
         Cmd::Info { file } => info(&file),

@@ -167,13 +167,13 @@ pub fn preload_global(path: &Path) -> Result<(), FmuError> {
 pub(crate) struct Loaded {
     api: Api,
     _library: libloading::Library,
-    dir: tempfile::TempDir,
+    dir: super::process::ScratchDir,
 }
 
 impl Loaded {
     /// Load the binary `so` of the FMU `fmu` (extracted into `dir`), resolve
     /// its functions and check that it reports FMI 2.0.
-    pub(crate) fn open(so: &Path, dir: tempfile::TempDir, fmu: &str) -> Result<Loaded, FmuError> {
+    pub(crate) fn open(so: &Path, dir: super::process::ScratchDir, fmu: &str) -> Result<Loaded, FmuError> {
         // SAFETY: loading runs the library's initializers. The file is the
         // FMU's own binary, which the user asked to run; FMI binaries are
         // meant to be loaded into a host like this. RTLD_NOW makes missing

@@ -9,6 +9,7 @@ use crate::error::FmuError;
 use crate::import::ffi::{Loaded, RawInstance};
 use crate::import::instance::Instance;
 use crate::import::log::LogState;
+use crate::import::process::ScratchDir;
 use model_description::ModelDescription;
 use std::ffi::CString;
 use std::path::Path;
@@ -79,7 +80,7 @@ impl Fmu {
                 error: std::io::Error::new(std::io::ErrorKind::NotFound, "no such file"),
             });
         }
-        let dir = tempfile::Builder::new().prefix("fmi-master-").tempdir().map_err(|error| FmuError::Io {
+        let dir = ScratchDir::new("fmi-master-").map_err(|error| FmuError::Io {
             context: "cannot create a temporary directory for",
             path: path.to_path_buf(),
             error,

@@ -5,10 +5,15 @@
 //!   instantiation ([`Fmu`], [`read_model_description`], [`file_uri`]).
 //! * [`instance`] (safe): the FMI state machine and status checks ([`Instance`]).
 //! * [`log`] (safe): the per-instance log ring buffer quoted by errors.
-//! * `ffi`: **the only module of the master with `unsafe` code** — loading
+//! * `ffi`: **the `unsafe` code of the calls into FMUs** — loading
 //!   the library, resolving the FMI functions, the raw calls and the logger
 //!   callback (with the C shim `csrc/logger_shim.c`, since FMI's logger is
 //!   variadic).
+//! * [`process`]: the only other module with `unsafe` code — what happens
+//!   when the process ends without destructors (an FMU's `exit()`, a
+//!   signal): scratch directories removed, a run in progress reported as
+//!   failed ([`process::ScratchDir`], [`process::install_exit_guard`],
+//!   [`process::install_signal_cleanup`]).
 //!
 //! Each instance keeps its own log; the library stays loaded, and the
 //! extracted directory on disk, until the last instance of the FMU is gone.
@@ -18,6 +23,8 @@ mod ffi;
 pub mod fmu;
 pub mod instance;
 pub(crate) mod log;
+#[allow(unsafe_code)]
+pub mod process;
 
 pub use ffi::preload_global;
 pub use fmu::{Fmu, MAX_MODEL_DESCRIPTION_BYTES, PLATFORM, file_uri, read_model_description};
