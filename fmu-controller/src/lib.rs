@@ -144,6 +144,14 @@ impl Fmi2Model for ChatterController {
     fn do_step(&mut self, v: &mut Values, t: f64, h: f64, log: &mut dyn ModelLog) -> Result<(), StepError> {
         let ControllerInputs { y, r } = TABLE.read_inputs(v).map_err(StepError::Error)?;
         let base = *self.t_base.get_or_insert(t);
+        // Samples due before `t` are not caught up one by one: in a run the previous step took
+        // them all; a clock that jumped ahead of the sample index (a restored or restarted
+        // instance) continues from the first sample at or after `t`. The margin of one sample
+        // leaves every ordinary step untouched by rounding.
+        let first_due = ((t - base) / self.ts - 1e-6).ceil().max(0.0) as u64;
+        if first_due > self.k_next + 1 {
+            self.k_next = first_due;
+        }
         let end = t + h - 1e-6 * self.ts;
         while base + self.k_next as f64 * self.ts < end {
             self.last = self.ctrl.sample(y, r);
