@@ -239,9 +239,14 @@ pub unsafe fn instantiate<M: Fmi2Model>(
     _visible: fmi2Boolean,
     logging_on: fmi2Boolean,
 ) -> fmi2Component {
+    // FMI 2.0: `functions` is a required argument. Without it there is no logger to say why, so
+    // the refusal is the NULL result alone.
+    if functions.is_null() {
+        return ptr::null_mut();
+    }
     let r = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: a non-null `functions` points to the host's callback struct.
-        let cb = if functions.is_null() { None } else { Some(unsafe { *functions }) };
+        // SAFETY: `functions` is non-null and points to the host's callback struct.
+        let cb = Some(unsafe { *functions });
         // SAFETY: the host passes NUL-terminated strings or null.
         let name = unsafe { opt_str(instance_name) };
         let mut sink = HostSink {

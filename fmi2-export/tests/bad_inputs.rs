@@ -274,6 +274,7 @@ fn every_bad_input_is_refused_with_a_message_and_nothing_crashes() {
             api::fmi2Instantiate(n.as_ptr(), fmi2ModelExchange, g.as_ptr(), ptr::null(), &cb, 0, 0),
             api::fmi2Instantiate(n.as_ptr(), fmi2CoSimulation, c"{wrong}".as_ptr(), ptr::null(), &cb, 0, 0),
             api::fmi2Instantiate(n.as_ptr(), fmi2CoSimulation, ptr::null(), ptr::null(), &cb, 0, 0),
+            api::fmi2Instantiate(n.as_ptr(), fmi2CoSimulation, g.as_ptr(), ptr::null(), ptr::null(), 0, 0),
         ];
         assert!(insts.iter().all(|c| c.is_null()));
         assert!(messages("bad-inst").iter().filter(|m| m.0 == fmi2Error).count() >= 3);

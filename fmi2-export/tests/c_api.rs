@@ -64,7 +64,7 @@ fn wrong_guid_and_wrong_type_are_refused_with_a_message() {
 }
 
 #[test]
-fn null_logger_null_callbacks_and_empty_name_do_not_crash() {
+fn null_logger_and_empty_name_do_not_crash_and_null_callbacks_are_refused() {
     let g = common::guid();
     let mut cb = callbacks(0);
     cb.logger = None;
@@ -73,7 +73,10 @@ fn null_logger_null_callbacks_and_empty_name_do_not_crash() {
         assert!(!c.is_null());
         assert_eq!(api::fmi2DoStep(c, 0.0, 1e-3, 1), fmi2Error); // wrong state, logged to nobody
         api::fmi2FreeInstance(c);
+        // `functions` is required (FMI 2.0): without it the instantiation is refused
         let c = api::fmi2Instantiate(c"x".as_ptr(), fmi2CoSimulation, g.as_ptr(), ptr::null(), ptr::null(), 0, 0);
+        assert!(c.is_null());
+        let c = api::fmi2Instantiate(c"x".as_ptr(), fmi2CoSimulation, g.as_ptr(), ptr::null(), &cb, 0, 0);
         assert!(!c.is_null());
         assert_eq!(api::fmi2SetDebugLogging(c, 1, 1, [ptr::null()].as_ptr()), fmi2Error);
         api::fmi2FreeInstance(c);
