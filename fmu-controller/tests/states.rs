@@ -2,10 +2,10 @@
 //! gain is `fmi2Error` with a message, never a hang or a panic on the next step.
 
 use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink, Snapshot};
+use fmi2_export::table::checks::{self, reseal};
 use fmi2_export::{Environment, Fmi2Model};
 use fmu_controller::ChatterController;
 use model_description::{ScalarType, Value};
-use std::time::Instant;
 
 struct NoLog;
 impl LogSink for NoLog {
@@ -31,12 +31,6 @@ fn stepped() -> Instance<ChatterController> {
     inst
 }
 
-fn reseal(bytes: &mut [u8]) {
-    let n = bytes.len() - 8;
-    let sum = fmi2_export::fnv1a64(&bytes[..n]);
-    bytes[n..].copy_from_slice(&sum.to_le_bytes());
-}
-
 #[test]
 fn a_valid_state_loads_and_a_zero_sample_period_is_refused() {
     let bytes = stepped().snapshot().serialize().unwrap();
@@ -58,30 +52,12 @@ fn a_valid_state_loads_and_a_zero_sample_period_is_refused() {
 
 #[test]
 fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let bytes = stepped().snapshot().serialize().unwrap();
-    let mut rng = 0x9e37_79b9_7f4a_7c15_u64;
-    let (mut refused, mut loaded) = (0, 0);
-    for _ in 0..2000 {
-        let mut bad = bytes.clone();
-        for _ in 0..3 {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            let i = (rng % (bad.len() as u64 - 8)) as usize;
-            bad[i] ^= 1 << (rng >> 60 & 7);
-        }
-        reseal(&mut bad);
-        if let Ok(snap) = Snapshot::<ChatterController>::deserialize(&bad) {
-            loaded += 1;
-            let mut inst = stepped();
-            inst.restore(&snap);
-            let t = inst.time();
-            let started = Instant::now();
-            let _ = inst.do_step(t, 1e-4);
-            assert!(started.elapsed().as_secs_f64() < 2.0);
-        } else {
-            refused += 1;
-        }
-    }
+    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<ChatterController>(
+        &stepped().snapshot().serialize().unwrap(),
+        0x9e37_79b9_7f4a_7c15_u64,
+        2000,
+        stepped,
+        1e-4,
+    );
     println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }

@@ -2,6 +2,7 @@
 //! `fmi2DoStep`, and bounded memory for every input in its declared range.
 
 use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink};
+use fmi2_export::table::checks::{self, reseal};
 use fmi2_export::{Environment, Fmi2Model, MAX_INTERNAL_STEPS_PER_CALL};
 use fmu_plant::MillingPlant;
 use model_description::{ScalarType, Value};
@@ -116,13 +117,6 @@ fn saved_state() -> Vec<u8> {
     inst.snapshot().serialize().unwrap()
 }
 
-/// Replace the trailing checksum, so that only the validation can refuse the bytes.
-fn reseal(bytes: &mut [u8]) {
-    let n = bytes.len() - 8;
-    let sum = fmi2_export::fnv1a64(&bytes[..n]);
-    bytes[n..].copy_from_slice(&sum.to_le_bytes());
-}
-
 /// Every occurrence of the double `from` replaced, one at a time, by `to`: each must be refused.
 fn each_copy_refused(bytes: &[u8], from: f64, to: f64, what: &str) -> usize {
     let pat = from.to_le_bytes();
@@ -163,31 +157,12 @@ fn a_restored_state_with_a_disordered_history_is_refused() {
 
 #[test]
 fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let bytes = saved_state();
-    let mut rng = 0x2545_f491_4f6c_dd1d_u64;
-    let (mut refused, mut loaded) = (0, 0);
-    for _ in 0..2000 {
-        let mut bad = bytes.clone();
-        for _ in 0..3 {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            let i = (rng % (bad.len() as u64 - 8)) as usize;
-            bad[i] ^= 1 << (rng >> 60 & 7);
-        }
-        reseal(&mut bad);
-        match fmi2_export::instance::Snapshot::<MillingPlant>::deserialize(&bad) {
-            Err(_) => refused += 1,
-            Ok(snap) => {
-                loaded += 1;
-                let (mut inst, _) = ready(&[]);
-                inst.restore(&snap);
-                let t = inst.time();
-                let started = Instant::now();
-                let _ = inst.do_step(t, 1e-3);
-                assert!(started.elapsed().as_secs_f64() < 2.0);
-            }
-        }
-    }
+    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<MillingPlant>(
+        &saved_state(),
+        0x2545_f491_4f6c_dd1d_u64,
+        2000,
+        || ready(&[]).0,
+        1e-3,
+    );
     println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }

@@ -254,3 +254,50 @@ where
     }
     Ok(())
 }
+
+/// Replace the trailing checksum of a serialized FMU state, so that only the model's validation
+/// can refuse the bytes.
+pub fn reseal(bytes: &mut [u8]) {
+    let n = bytes.len() - 8;
+    let sum = crate::fnv1a64(&bytes[..n]);
+    bytes[n..].copy_from_slice(&sum.to_le_bytes());
+}
+
+/// `tries` copies of the serialized state `bytes`, each with 3 bits flipped by a xorshift stream
+/// from `seed` and resealed: every copy is refused by `Snapshot::deserialize`, or restored into a
+/// `fresh()` instance whose next step of `h` neither panics nor takes 2 s. Returns (refused,
+/// loaded).
+pub fn corrupted_states_never_panic_or_hang<M: crate::Fmi2Model>(
+    bytes: &[u8],
+    seed: u64,
+    tries: usize,
+    fresh: impl Fn() -> Instance<M>,
+    h: f64,
+) -> (usize, usize) {
+    let mut rng = seed;
+    let (mut refused, mut loaded) = (0, 0);
+    for _ in 0..tries {
+        let mut bad = bytes.to_vec();
+        for _ in 0..3 {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            let i = (rng % (bad.len() as u64 - 8)) as usize;
+            bad[i] ^= 1 << (rng >> 60 & 7);
+        }
+        reseal(&mut bad);
+        match crate::instance::Snapshot::<M>::deserialize(&bad) {
+            Err(_) => refused += 1,
+            Ok(snap) => {
+                loaded += 1;
+                let mut inst = fresh();
+                inst.restore(&snap);
+                let t = inst.time();
+                let started = std::time::Instant::now();
+                let _ = inst.do_step(t, h);
+                assert!(started.elapsed().as_secs_f64() < 2.0, "a step of a restored corrupted state took over 2 s");
+            }
+        }
+    }
+    (refused, loaded)
+}
