@@ -102,7 +102,7 @@ fn foreign_and_junk_state_handles_are_errors_with_a_message() {
         let mut junk = vec![0x5au64; 64];
         let j = junk.as_mut_ptr() as fmi2FMUstate;
         assert_eq!(api::fmi2SetFMUstate(c, j), fmi2Error);
-        assert!(last_error("foreign").contains("magic"), "{}", last_error("foreign"));
+        assert!(last_error("foreign").contains("not a live state of this instance"), "{}", last_error("foreign"));
         api::fmi2Reset(c);
         let mut size = 0usize;
         assert_eq!(api::fmi2SerializedFMUstateSize(c, j, &mut size), fmi2Error);
