@@ -223,7 +223,7 @@ unsafe fn with<M: Fmi2Model>(
         }
         Ok(Err(CallError::Error(m))) => {
             comp.inst.log(LogLevel::Error, &m);
-            comp.inst.state = State::Error;
+            comp.inst.enter_error(&m);
             fmi2Error
         }
         Err(p) => {

@@ -178,6 +178,19 @@ fn table(fmu: &Fmu, good: &[fmi2Byte], foreign: &Foreign) -> Vec<(String, Setup,
     rows.push(row("DoStep huge h (1e9 s) without a stop time", Ready, |f, c| unsafe {
         (f.api.do_step)(c, 0.0, 1e9, 1)
     }));
+    if let Some(w) = fmu.md.work_bound() {
+        // the FMU refuses what its WorkBound annotation lets a master refuse in advance
+        let p = match fmu.md.variable(&w.internal_step_parameter).and_then(|v| v.start_value()) {
+            Some(model_description::Value::Real(p)) => p,
+            other => {
+                panic!("{}: work bound parameter {} without a Real start: {other:?}", fmu.id, w.internal_step_parameter)
+            }
+        };
+        let h = 1.01 * w.max_step(p);
+        rows.push(row(format!("DoStep 1 % beyond the declared work bound (h = {h:e} s)"), Ready, move |f, c| unsafe {
+            (f.api.do_step)(c, 0.0, h, 1)
+        }));
+    }
     rows.push(row("DoStep t NaN", Ready, |f, c| unsafe { (f.api.do_step)(c, f64::NAN, 1e-3, 1) }));
     rows.push(row("DoStep wrong communication point", Ready, |f, c| unsafe { (f.api.do_step)(c, 5.0, 1e-3, 1) }));
     rows.push(row("DoStep wrong state", Instantiated, |f, c| unsafe { (f.api.do_step)(c, 0.0, 1e-3, 1) }));
