@@ -88,3 +88,13 @@ fn an_fmu_without_the_annotation_runs_as_before_and_refuses_the_step_itself() {
         .arg(tmp.path().join("ok.csv")));
     assert!(ok, "{err}");
 }
+
+#[test]
+fn info_states_the_work_bound() {
+    let (ok, out, err) = run(cosim().arg("info").arg(packaged("MillingPlant.fmu")));
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("work bound: at most 1e7 internal steps per fmi2DoStep, a step h costs h / internal_step + 2"),
+        "{out}"
+    );
+}
