@@ -42,5 +42,15 @@ else
     exit 1
 fi
 
+step "leak check of every product through its C ABI (valgrind, packaging/tests/conformance.rs)"
+bin=$(cargo test --release -p packaging --test conformance --no-run --message-format=json 2>/dev/null \
+    | .venv/bin/python -c 'import json,sys
+for l in sys.stdin:
+    m=json.loads(l)
+    if m.get("reason")=="compiler-artifact" and m.get("executable") and m["target"]["name"]=="conformance": print(m["executable"])')
+valgrind --quiet --leak-check=full --errors-for-leak-kinds=definite --error-exitcode=1 \
+    "$bin" --test-threads=1 2>&1 | tail -n 5
+echo "valgrind: every product's hostile-call table without definite leaks or memory errors"
+
 step "Python tests (FMPy)"
 FMU_DIR="$root/target/fmu" .venv/bin/python -m pytest -q tests/python

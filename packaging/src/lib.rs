@@ -7,6 +7,9 @@
 //!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so`,
 //!   `documentation/index.html` (generated from the same table) and
 //!   `resources/` (a README naming the FMU; our models read no resource files);
+//! * `products.json`: the model identifiers of all products, in [`PRODUCTS`] order (the
+//!   Python conformance tests parametrize over it, so a product added to [`PRODUCTS`] is
+//!   checked without naming it anywhere else, and a stale `.fmu` left in the folder is not);
 //! * `ClosedLoop.ssp`: the closed-loop system (plant + controller) as a
 //!   standard SSP 1.0 archive with both FMUs under `resources/`;
 //! * `ClosedLoopTable2.ssp`: the same system with the paper's Table 2 controller
@@ -181,6 +184,19 @@ pub fn write_fmu(md: &ModelDescription, docs: &str, library: &Path, out: &Path) 
     Ok(())
 }
 
+/// File name of the product list in [`fmu_dir`] (see [`product_list_json`]).
+pub const PRODUCT_LIST: &str = "products.json";
+
+/// The model identifiers of [`PRODUCTS`] as a JSON array of strings (`["MillingPlant", …]`),
+/// written by [`package_all`] as [`PRODUCT_LIST`].
+pub fn product_list_json() -> String {
+    let ids: Vec<String> = PRODUCTS
+        .iter()
+        .map(|p| format!("\"{}\"", (p.description)().model_identifier().expect("co-simulation product")))
+        .collect();
+    format!("[{}]\n", ids.join(", "))
+}
+
 /// Build everything and write all products and `ClosedLoop.ssp`; returns the written paths.
 pub fn package_all() -> Result<Vec<PathBuf>> {
     build_cdylibs()?;
@@ -195,6 +211,9 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
         fmus.push((format!("{id}.fmu"), out.clone()));
         written.push(out);
     }
+    let list = dir.join(PRODUCT_LIST);
+    std::fs::write(&list, product_list_json())?;
+    written.push(list);
     let ssp = dir.join("ClosedLoop.ssp");
     let refs: Vec<(&str, &Path)> = fmus.iter().map(|(n, p)| (n.as_str(), p.as_path())).collect();
     ssp::write_ssp_archive(&ssp, CLOSED_LOOP_SSD, &refs)?;

@@ -113,10 +113,9 @@ fn official_headers() -> PathBuf {
     dir
 }
 
-#[test]
-fn c_header_matches_the_official_fmi2_headers() {
-    let tmp = tempfile::tempdir().unwrap();
-    let header = tmp.path().join("fmi2_export.h");
+/// The C header of the export layer's entry points, written by cbindgen from
+/// `fmi2-export/src/exports.rs` into `header`; returns its text.
+fn generated_header(header: &Path) -> String {
     let config = cbindgen::Config {
         language: cbindgen::Language::C,
         no_includes: true,
@@ -129,8 +128,52 @@ fn c_header_matches_the_official_fmi2_headers() {
         .with_src(workspace_root().join("fmi2-export/src/exports.rs"))
         .generate()
         .expect("cbindgen")
-        .write_to_file(&header);
-    let text = std::fs::read_to_string(&header).unwrap();
+        .write_to_file(header);
+    std::fs::read_to_string(header).unwrap()
+}
+
+/// The function names the generated header declares.
+fn header_functions(text: &str) -> Vec<String> {
+    let mut names: Vec<String> = text
+        .lines()
+        .filter(|l| l.contains(" fmi2") && l.contains('('))
+        .filter_map(|l| l.split('(').next()?.split_whitespace().last().map(|n| n.trim_start_matches('*').to_string()))
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn every_product_exports_exactly_the_functions_of_the_checked_header() {
+    let tmp = tempfile::tempdir().unwrap();
+    let declared = header_functions(&generated_header(&tmp.path().join("fmi2_export.h")));
+    assert_eq!(declared.len(), 34, "{declared:?}");
+    for (id, lib) in libraries() {
+        let out = tool("nm", &["-D", "--defined-only"], &lib);
+        let mut exported: Vec<String> =
+            out.lines().filter_map(|l| l.split_whitespace().nth(2)).map(String::from).collect();
+        exported.sort();
+        assert_eq!(exported, declared, "{id}: the exported symbols are not the header's functions");
+    }
+}
+
+#[test]
+fn the_product_list_beside_the_fmus_is_packagings() {
+    let path = fmu_dir().join(packaging::PRODUCT_LIST);
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -p packaging`)", path.display()));
+    assert_eq!(text, packaging::product_list_json(), "{} is stale: run packaging again", path.display());
+    for p in &PRODUCTS {
+        let id = (p.description)().model_identifier().unwrap();
+        assert!(text.contains(&format!("\"{id}\"")), "{id} missing from {}", path.display());
+        assert!(fmu_dir().join(format!("{id}.fmu")).is_file(), "{id}.fmu missing");
+    }
+}
+
+#[test]
+fn c_header_matches_the_official_fmi2_headers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = generated_header(&tmp.path().join("fmi2_export.h"));
     assert_eq!(text.lines().filter(|l| l.contains(" fmi2") && l.contains('(')).count(), 34, "{text}");
     let abi_size = std::mem::size_of::<fmi2_abi::fmi2CallbackFunctions>();
     let check = tmp.path().join("check.c");
