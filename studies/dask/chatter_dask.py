@@ -69,24 +69,24 @@ def main() -> None:
     p.add_argument("--chatter", default=shutil.which("chatter") or "chatter", help="the chatter binary")
     p.add_argument("--retries", type=int, default=3)
     a = p.parse_args()
+    from contextlib import nullcontext
+
     from dask.distributed import Client, LocalCluster
 
     if a.local:
-        cluster = LocalCluster(n_workers=a.local, threads_per_worker=1, processes=True, host="127.0.0.1")
+        cluster = LocalCluster(n_workers=a.local, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address=None)
     elif a.slurm:
         from dask_jobqueue import SLURMCluster
         cluster = SLURMCluster(cores=1, processes=1, memory="2GB", walltime="01:00:00")
         cluster.scale(jobs=a.slurm)
     else:
         cluster = None
-    with Client(cluster if cluster is not None else a.scheduler) as client:
-        total = len(case_ids(a.study))
+    total = len(case_ids(a.study))
+    with (cluster if cluster is not None else nullcontext()), Client(cluster or a.scheduler) as client:
         out = run_study(client, a.chatter, a.study, a.retries,
                         on_done=lambda i, n: print(f"[{n}/{total}] {i}", flush=True))
     print(out)
-    if cluster is not None:
-        cluster.close()
-
 
 if __name__ == "__main__":
     main()
