@@ -56,3 +56,12 @@ fi
 
 step "Python tests (FMPy)"
 FMU_DIR="$root/target/fmu" .venv/bin/python -m pytest -q tests/python
+
+step "Python package chatter_fmu: abi3 wheel for glibc 2.17 (maturin + zig), installed into a fresh venv"
+cargo build --release -p fmi-master -p studies --bins
+rm -rf target/wheels
+(cd python && maturin build --profile fmu-release --zig --compatibility manylinux2014 \
+    -i "$root/.venv/bin/python" -o "$root/target/wheels")
+python3 -m venv --clear target/wheel-venv
+target/wheel-venv/bin/python -m pip install --quiet --disable-pip-version-check target/wheels/chatter_fmu-*.whl pytest
+FMU_DIR="$root/target/fmu" target/wheel-venv/bin/python -m pytest -q python/tests
