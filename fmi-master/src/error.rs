@@ -63,7 +63,7 @@ pub enum FmuError {
     MissingBinary {
         /// FMU file name.
         fmu: String,
-        /// The platform we need (`linux64`).
+        /// The platform we need (the host's, e.g. `linux64`).
         platform: &'static str,
         /// Platforms the archive has binaries for.
         available: String,

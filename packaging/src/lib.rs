@@ -1,10 +1,12 @@
 //! # Packaging of the project's FMUs
 //!
-//! `cargo run --release -p packaging` builds the model cdylibs in release
-//! mode and writes, under `target/fmu/`:
+//! `cargo run --release -p packaging` builds the model cdylibs (profile
+//! `fmu-release`: no debug info) for each platform it can and writes, under `target/fmu/`:
 //!
 //! * `<modelIdentifier>.fmu` for each product ([`PRODUCTS`]): `modelDescription.xml`
-//!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so`,
+//!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so` and, where
+//!   the toolchain is installed, `binaries/win64/<modelIdentifier>.dll` ([`platforms`]: the
+//!   linux64 binary is built against glibc 2.17 with `cargo zigbuild` when available),
 //!   `documentation/index.html` (generated from the same table) and
 //!   `resources/` (a README naming the FMU; our models read no resource files);
 //! * `products.json`: the model identifiers of all products, in [`PRODUCTS`] order (the
@@ -21,12 +23,14 @@
 //! permissions), so rebuilding the same sources gives the same files; the SSDs
 //! are written and edited with the `ssp` crate.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use fmi_archive::{Compression, ZipBuilder};
 use fmi2_export::Fmi2Model;
 use model_description::{ModelDescription, VarKind};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+pub mod platforms;
+pub use platforms::Build;
 
 /// The project's closed-loop system (plant + controller), `packaging/scenarios/ClosedLoop.ssd`:
 /// the `SystemStructure.ssd` of `ClosedLoop.ssp` (and, with the Table 2 bindings, of
@@ -96,24 +100,19 @@ pub fn packaged(file: &str) -> PathBuf {
     p
 }
 
-/// Build the product cdylibs in release mode.
-pub fn build_cdylibs() -> Result<()> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let mut cmd = Command::new(cargo);
-    cmd.current_dir(workspace_root()).args(["build", "--release", "--lib"]);
-    for p in &PRODUCTS {
-        cmd.args(["-p", p.package]);
+/// Build the product cdylibs for every platform this machine can build ([`platforms::plan`]);
+/// prints what is skipped and why. Returns the builds done.
+pub fn build_cdylibs() -> Result<Vec<Build>> {
+    let venv = workspace_root().join(".venv");
+    let plan = platforms::plan(&venv)?;
+    for (name, why) in &plan.skipped {
+        eprintln!("packaging: {name} skipped: {why}");
     }
-    let status = cmd.status().context("running cargo build for the FMU cdylibs")?;
-    if !status.success() {
-        bail!("cargo build of the FMU cdylibs failed ({status})");
+    let packages: Vec<&str> = PRODUCTS.iter().map(|p| p.package).collect();
+    for build in &plan.builds {
+        platforms::run(build, &workspace_root(), &venv, &packages)?;
     }
-    Ok(())
-}
-
-/// Path of the built shared library of `identifier`.
-pub fn built_library(identifier: &str) -> PathBuf {
-    target_dir().join("release").join(format!("lib{identifier}.so"))
+    Ok(plan.builds)
 }
 
 fn esc(s: &str) -> String {
@@ -169,17 +168,24 @@ pub fn documentation_html(md: &ModelDescription, docs: &str) -> String {
     h
 }
 
-/// Write one `.fmu` archive.
-pub fn write_fmu(md: &ModelDescription, docs: &str, library: &Path, out: &Path) -> Result<()> {
+/// Write one `.fmu` archive with the binary of each of `builds` (one model description, one
+/// GUID, a `binaries/<platform>/` folder per build).
+pub fn write_fmu(md: &ModelDescription, docs: &str, builds: &[Build], out: &Path) -> Result<()> {
     let id = md.model_identifier().context("model has no CoSimulation interface")?;
-    let so = std::fs::read(library).with_context(|| format!("reading {}", library.display()))?;
     let readme =
         format!("{} needs no resource files; this directory exists for masters that expect it.\n", md.model_name);
     let mut zip = ZipBuilder::new();
-    zip.file("modelDescription.xml", md.to_xml()?, Compression::Deflated)
-        .executable(format!("binaries/linux64/{id}.so"), so, Compression::Deflated)
-        .file("documentation/index.html", documentation_html(md, docs), Compression::Deflated)
-        .file("resources/README.txt", readme, Compression::Deflated);
+    zip.file("modelDescription.xml", md.to_xml()?, Compression::Deflated);
+    for build in builds {
+        let library = build.artifact(&target_dir(), id);
+        let bytes = std::fs::read(&library).with_context(|| format!("reading {}", library.display()))?;
+        zip.executable(format!("binaries/{}/{}", build.folder(), build.file_name(id)), bytes, Compression::Deflated);
+    }
+    zip.file("documentation/index.html", documentation_html(md, docs), Compression::Deflated).file(
+        "resources/README.txt",
+        readme,
+        Compression::Deflated,
+    );
     zip.write_to(out)?;
     Ok(())
 }
@@ -199,7 +205,7 @@ pub fn product_list_json() -> String {
 
 /// Build everything and write all products and `ClosedLoop.ssp`; returns the written paths.
 pub fn package_all() -> Result<Vec<PathBuf>> {
-    build_cdylibs()?;
+    let builds = build_cdylibs()?;
     let dir = fmu_dir();
     let mut written = Vec::new();
     let mut fmus = Vec::new();
@@ -207,7 +213,7 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
         let md = (p.description)();
         let id = md.model_identifier().context("no modelIdentifier")?;
         let out = dir.join(format!("{id}.fmu"));
-        write_fmu(md, p.documentation, &built_library(id), &out)?;
+        write_fmu(md, p.documentation, &builds, &out)?;
         fmus.push((format!("{id}.fmu"), out.clone()));
         written.push(out);
     }

@@ -1,5 +1,5 @@
-//! Every product of `PRODUCTS`, as shipped: its real cdylib (`target/release/lib<id>.so`, built
-//! by `cargo run --release -p packaging`) is loaded with `libloading` and a table of hostile
+//! Every product of `PRODUCTS`, as shipped: the linux64 binary inside its FMU (built by
+//! `cargo run --release -p packaging`) is loaded with `libloading` and a table of hostile
 //! calls goes through its C ABI: null component and arrays, calls in the wrong state, unknown
 //! value references, NaN/Inf reals, out-of-range values and non-items of enumerations, h ≤ 0,
 //! a huge h without a stop time, corrupted, truncated and foreign serialized states, state
@@ -13,6 +13,7 @@
 //! layer's test model. `tests/run_all.sh` runs this test under valgrind too.
 #![allow(missing_docs, clippy::type_complexity)]
 
+mod common;
 #[path = "conformance/host.rs"]
 mod host;
 

@@ -66,6 +66,7 @@
 //! | [`validation`] | time-domain cross-check of the lobes with the plant and controller cores |
 //! | [`fmu_validation`] | the same check through the plant and controller FMUs in the Rust FMI master |
 
+pub mod cases;
 pub mod closed_loop;
 pub mod depth_study;
 mod error;

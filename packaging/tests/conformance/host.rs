@@ -5,7 +5,7 @@
 use fmi2_abi::fn_types::*;
 use fmi2_abi::*;
 use model_description::{Causality, ModelDescription, ScalarType, ScalarVariable, VarKind, Variability};
-use packaging::{PRODUCTS, built_library};
+use packaging::{PRODUCTS, target_dir};
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::sync::Mutex;
 
@@ -100,15 +100,16 @@ pub struct Fmu {
 /// [`Api`] stay valid for the life of the process.
 static LIBRARIES: Mutex<Vec<libloading::Library>> = Mutex::new(Vec::new());
 
-/// Every product of `PRODUCTS`, loaded from `target/release/`.
+/// Every product of `PRODUCTS`: the linux64 binary shipped in its FMU, extracted into
+/// `target/conformance/linux64/` and loaded.
 pub fn load_all() -> Vec<Fmu> {
     PRODUCTS
         .iter()
         .map(|p| {
             let md = (p.description)();
             let id = md.model_identifier().expect("co-simulation product").to_string();
-            let path = built_library(&id);
-            assert!(path.exists(), "{} missing: run `cargo run --release -p packaging` first", path.display());
+            let path = crate::common::packaged_binary(&id, "linux64", &target_dir().join("conformance"))
+                .unwrap_or_else(|| panic!("{id}.fmu has no linux64 binary"));
             // SAFETY: our own FMU library; its initialisers only set up Rust statics.
             let lib = unsafe { libloading::Library::new(&path) }.unwrap_or_else(|e| panic!("{}: {e}", path.display()));
             let api = Api::resolve(&lib, &id);

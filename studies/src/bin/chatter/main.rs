@@ -9,12 +9,16 @@
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
+//! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
+//! chatter run DIR [--shard I/N | --index K | --case ID,.. | --slurm-array]
+//! chatter collect DIR
 //! ```
 //!
 //! Gains are force-equivalent SI values (`u` in N, `y` in m); `--adrc` takes the FOPID gains of
 //! the ADRC loop in the same force units (converted by `b0` as in `chatter_control::params`).
 //! Default gains: the seed's Table 2 preset (`--preset tuned`: the PSO-tuned FMU defaults).
 
+mod cases;
 mod check;
 mod common;
 mod depth_study;
@@ -54,6 +58,13 @@ enum Cmd {
     Check(check::CheckArgs),
     /// The lobes against the FMUs in the Rust master: time-domain boundary by bisection vs the lobe.
     Validate(validate::ValidateArgs),
+    /// Plan a study as independent cases into a folder (manifest.json), to run anywhere.
+    #[command(subcommand)]
+    Plan(cases::PlanCmd),
+    /// Run the cases of a planned study that have no result yet (all, a shard, an index, IDs).
+    Run(cases::RunArgs),
+    /// Merge the results of a planned study into its tables and figures.
+    Collect(cases::CollectArgs),
 }
 
 /// Errors print as one line (the error and its causes, `: `-separated) and exit with status 1.
@@ -76,5 +87,8 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),
         Cmd::Validate(a) => validate::validate(a),
+        Cmd::Plan(c) => cases::plan(c),
+        Cmd::Run(a) => cases::run(a),
+        Cmd::Collect(a) => cases::collect(a),
     }
 }
