@@ -1,0 +1,62 @@
+//! Seed 002 (Section 6, Table I): the semi-discretisation against the exact boundary of the
+//! time-invariant case, its convergence in m, and the closed loop with the printed gains.
+
+use delay_stability::presets::{SEED002_GAINS, seed002, seed002_gain};
+use delay_stability::sd::{critical_multiplier, eigenvalues};
+use delay_stability::{BisectionOptions, critical_value, monodromy, monodromy_dense};
+
+fn sd_depth(x_f: f64, gain: Option<nalgebra::DMatrix<f64>>, rpm: f64, m: usize) -> f64 {
+    let model = seed002(x_f, gain).unwrap();
+    let o = BisectionOptions { m, start: 0.2e-3, growth: 1.1, max: 0.02, rel_tol: 1e-6 };
+    critical_value(|a| model.at(rpm, a), &o).unwrap().value.expect("a boundary below 20 mm")
+}
+
+#[test]
+fn time_invariant_open_loop_matches_the_exact_boundary() {
+    let model = seed002(1.0, None).unwrap();
+    // x_F = 1, full immersion, z = 4: H(t) is constant, −K_r I + K_t J
+    let h = model.cutter.mean();
+    for phi in [0.1, 0.7, 1.3] {
+        let hd = model.cutter.directional(phi);
+        assert!((hd - h).norm() < 1e-9 * h.norm(), "H({phi}) = {hd} differs from H̄ = {h}");
+    }
+    assert!((h[(0, 0)] + 38.6e6).abs() < 1.0 && (h[(1, 0)] - 462e6).abs() < 1.0, "{h}");
+    let ti = model.time_invariant();
+    for rpm in [36000.0, 38000.0] {
+        let exact = ti.critical_depth(rpm, 40_000).unwrap().unwrap().depth;
+        let sd = sd_depth(1.0, None, rpm, 40);
+        println!("open loop {rpm} rpm: exact {:.5} mm, SD(m=40) {:.5} mm", exact * 1e3, sd * 1e3);
+        assert!((sd / exact - 1.0).abs() < 2e-3, "SD {sd} vs exact {exact}");
+    }
+}
+
+#[test]
+fn closed_loop_with_the_printed_gains() {
+    let (k1, k2) = SEED002_GAINS;
+    let model = seed002(1.0, Some(seed002_gain(k1, k2))).unwrap();
+    let exact = model.time_invariant().critical_depth(37800.0, 40_000).unwrap().unwrap().depth;
+    let sd = sd_depth(1.0, Some(seed002_gain(k1, k2)), 37800.0, 40);
+    println!("closed loop 37800 rpm: exact {:.4} mm, SD(m=40) {:.4} mm (paper 3.52)", exact * 1e3, sd * 1e3);
+    assert!((sd / exact - 1.0).abs() < 5e-3, "SD {sd} vs exact {exact}");
+    assert!(exact > 3.0e-3 && exact < 4.0e-3);
+}
+
+#[test]
+fn reduced_monodromy_has_the_eigenvalues_of_the_dense_one() {
+    let (k1, k2) = SEED002_GAINS;
+    let model = seed002(0.744, Some(seed002_gain(k1, k2))).unwrap();
+    let sys = model.at(36000.0, 1.0e-3).unwrap();
+    let m = 12;
+    let small = eigenvalues(&monodromy(&sys, m).unwrap()).unwrap();
+    let big = eigenvalues(&monodromy_dense(&sys, m).unwrap()).unwrap();
+    assert_eq!(monodromy(&sys, m).unwrap().nrows(), 8 + 4 * m);
+    assert_eq!(monodromy_dense(&sys, m).unwrap().nrows(), 8 * (m + 1));
+    // the multipliers away from the (defective, so sensitive) zero eigenvalues agree
+    let count = small.iter().filter(|z| z.norm() > 0.1).count();
+    assert!(count >= 4, "{count}");
+    for k in 0..count {
+        assert!((small[k].norm() - big[k].norm()).abs() < 1e-7, "{k}: {} vs {}", small[k], big[k]);
+    }
+    let c = critical_multiplier(&sys, m).unwrap();
+    assert!((c.rho - small[0].norm()).abs() < 1e-15);
+}
