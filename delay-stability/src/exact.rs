@@ -143,7 +143,8 @@ impl TimeInvariant {
             }
         }
         // interpolate Im λ = 0 on the final bracket
-        let t = if lb.im != la.im { la.im / (la.im - lb.im) } else { 0.5 };
+        let gap = la.im - lb.im;
+        let t = if gap.abs() > 0.0 { la.im / gap } else { 0.5 };
         Ok((a + t * (b - a), la + (lb - la) * t))
     }
 }

@@ -224,7 +224,7 @@ impl Cutter {
         {
             return bad(format!("power law: need 0 < x_F <= 1 and f_z > 0 (got {x_f}, {feed_per_tooth})"));
         }
-        Ok(Cutter { teeth, entry, exit, kt, kr, law, rule: GaussLegendre::new(12) })
+        Ok(Cutter { teeth, entry, exit, kt, kr, law, rule: GaussLegendre::new(16) })
     }
 
     /// Entry and exit angles of a radial immersion `a_e/D ∈ (0, 1]`.
@@ -262,11 +262,11 @@ impl Cutter {
         (0..self.teeth).map(|j| phi + j as f64 * self.pitch()).filter(|&p| self.engaged(p)).map(|p| self.tooth(p)).sum()
     }
 
-    /// Exponent of the singularity-removing substitution (`k ≥ 2/x_F`).
+    /// Exponent of the singularity-removing substitution for `h^{x_F − 1}`.
     fn k(&self) -> i32 {
         match self.law {
             ForceLaw::Linear => 1,
-            ForceLaw::Power { x_f, .. } => ((2.0 / x_f).ceil() as i32).clamp(1, 40),
+            ForceLaw::Power { x_f, .. } => crate::quadrature::exponent_for(x_f - 1.0),
         }
     }
 

@@ -33,7 +33,8 @@ pub fn seed002_structure() -> Structure {
 /// `x_F = 1` (Section 6.1, linear law) or `x_F < 1` (Section 6.2: 0.744, with f_z = 0.2 mm).
 pub fn seed002_cutter(x_f: f64) -> Result<Cutter, StabilityError> {
     let scale = 1000f64.powf(1.0 + x_f);
-    let law = if x_f == 1.0 { ForceLaw::Linear } else { ForceLaw::Power { x_f, feed_per_tooth: 0.2e-3 } };
+    let law =
+        if (x_f - 1.0).abs() < 1e-12 { ForceLaw::Linear } else { ForceLaw::Power { x_f, feed_per_tooth: 0.2e-3 } };
     Cutter::new(4, 0.0, PI, 462.0 * scale, 38.6 * scale, law)
 }
 

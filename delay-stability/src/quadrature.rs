@@ -4,10 +4,16 @@
 //! `h^{x_F − 1}` factor of the linearised power-law cutting force at `sin φ = 0`), the interval is
 //! halved at `c = (a + b)/2` and each half mapped from `[0, 1]` by `φ = a + (c − a) s^k` (left) and
 //! `φ = b − (b − c) s^k` (right), so the integrand becomes `k s^{k−1} f(φ(s))`, which behaves like
-//! `s^{k(1+α) − 1}`: with `k ≥ 2/(1+α)` this is at least `s¹`, and `n`-point Gauss–Legendre
-//! converges fast. The nodes are computed once by Newton's method on `P_n`.
+//! `s^{k(1+α) − 1}`: with `k ≥ 3/(1+α)` ([`exponent_for`]) this is at least `s²`, and `n`-point
+//! Gauss–Legendre converges fast (relative error < 1e-9 with 16 points for α = −1/2 and −0.256,
+//! tested against the Beta function). The nodes are computed once by Newton's method on `P_n`.
 
 use std::f64::consts::PI;
+
+/// The substitution exponent `k = ⌈3/(1 + α)⌉` for a singularity `(φ − a)^α`, `α > −1`.
+pub fn exponent_for(alpha: f64) -> i32 {
+    ((3.0 / (1.0 + alpha).max(0.05)).ceil() as i32).clamp(1, 60)
+}
 
 /// `n`-point Gauss–Legendre nodes and weights on `[0, 1]`.
 #[derive(Clone, Debug)]
@@ -89,8 +95,8 @@ mod tests {
     fn singular_sine_powers_match_the_beta_function() {
         // ∫_0^π sin^α φ dφ = √π Γ((α+1)/2) / Γ(α/2 + 1)
         let g = GaussLegendre::new(16);
-        for (alpha, exact, k) in [(-0.5, 5.244115108584238, 4), (-0.256, 3.8785370238868606, 3)] {
-            let v = g.singular(0.0, PI, k, |p: f64| p.sin().powf(alpha));
+        for (alpha, exact) in [(-0.5, 5.244115108584238), (-0.256, 3.8785370238868606)] {
+            let v = g.singular(0.0, PI, exponent_for(alpha), |p: f64| p.sin().powf(alpha));
             assert_relative_eq!(v, exact, max_relative = 1e-9);
         }
         // without the substitution the same rule is far off: the test can fail

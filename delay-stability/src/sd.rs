@@ -205,17 +205,36 @@ pub fn monodromy_dense<S: PeriodicDde + ?Sized>(sys: &S, m: usize) -> Result<DMa
 }
 
 /// All eigenvalues of a square matrix (dense real Schur), largest modulus first.
+///
+/// nalgebra's Schur iteration deflates with a purely relative test, which never succeeds on the
+/// clusters of (structurally) zero eigenvalues a monodromy matrix has when teeth are out of cut
+/// (`B_i = 0` makes the step singular). The eigenvalues are therefore computed of `Φ + σI`
+/// (shifts [`SHIFTS`], the next one tried if the iteration fails) and shifted back; the shift
+/// moves the zero cluster away from the origin and changes nothing else.
 pub fn eigenvalues(phi: &DMatrix<f64>) -> Result<Vec<Complex64>, StabilityError> {
     let dim = phi.nrows();
     if phi.iter().any(|v| !v.is_finite()) {
         return Err(StabilityError::Invalid("the monodromy matrix has non-finite entries".into()));
     }
-    let schur =
-        nalgebra::Schur::try_new(phi.clone(), f64::EPSILON, 100 * dim.max(10)).ok_or(StabilityError::Eigen { dim })?;
-    let mut ev: Vec<Complex64> = schur.complex_eigenvalues().iter().copied().collect();
-    ev.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
-    Ok(ev)
+    for &sigma in SHIFTS {
+        let mut shifted = phi.clone();
+        for k in 0..dim {
+            shifted[(k, k)] += sigma;
+        }
+        if let Some(schur) = nalgebra::Schur::try_new(shifted, SCHUR_EPS, 200 * dim.max(10)) {
+            let mut ev: Vec<Complex64> = schur.complex_eigenvalues().iter().map(|z| z - sigma).collect();
+            ev.sort_by(|a, b| b.norm().total_cmp(&a.norm()));
+            return Ok(ev);
+        }
+    }
+    Err(StabilityError::Eigen { dim })
 }
+
+/// The shifts tried by [`eigenvalues`] (none of them a likely multiplier).
+pub const SHIFTS: &[f64] = &[0.3141, -0.2718, 0.1618, 0.0];
+
+/// Relative deflation tolerance of the Schur iteration.
+pub const SCHUR_EPS: f64 = 1e-13;
 
 /// The critical multiplier of `sys` at discretisation `m` (the spectral radius and its kind).
 pub fn critical_multiplier<S: PeriodicDde + ?Sized>(sys: &S, m: usize) -> Result<Multiplier, StabilityError> {

@@ -60,3 +60,22 @@ fn reduced_monodromy_has_the_eigenvalues_of_the_dense_one() {
     let c = critical_multiplier(&sys, m).unwrap();
     assert!((c.rho - small[0].norm()).abs() < 1e-15);
 }
+
+#[test]
+fn the_sign_and_the_transpose_of_the_gain_matter() {
+    // F_a = +D_c Δv_a as printed; −D_c and D_cᵀ destabilise the cut (spec §3.2: 0.10–0.15 mm)
+    let (k1, k2) = SEED002_GAINS;
+    let dc = seed002_gain(k1, k2);
+    let o = BisectionOptions { m: 30, start: 1e-5, growth: 1.15, max: 0.02, rel_tol: 1e-4 };
+    for (name, gain) in [("−D_c", -dc.clone()), ("D_cᵀ", dc.transpose())] {
+        let model = seed002(1.0, Some(gain)).unwrap();
+        let c = critical_value(|a| model.at(37800.0, a), &o);
+        let depth = match c {
+            Ok(c) => c.value.unwrap(),
+            Err(delay_stability::StabilityError::UnstableAtStart { .. }) => 0.0,
+            Err(e) => panic!("{e}"),
+        };
+        println!("{name}: {:.4} mm at 37800 rpm", depth * 1e3);
+        assert!(depth < 0.2e-3, "{name}: {depth}");
+    }
+}

@@ -22,6 +22,8 @@ pub struct MillingModel {
     bt: DMatrix<f64>,
     /// `[C_t, 0]`.
     ct: DMatrix<f64>,
+    /// The rows of `C_t` that are not zero (a one-direction structure delays one output).
+    keep: Vec<usize>,
 }
 
 fn dims(name: &str, m: &DMatrix<f64>, r: usize, c: usize) -> Result<(), StabilityError> {
@@ -44,6 +46,10 @@ impl MillingModel {
         let (p, q) = (s.ba.ncols(), s.ca.nrows());
         dims("B_a", &s.ba, n, p)?;
         dims("C_a", &s.ca, q, n)?;
+        let keep: Vec<usize> = (0..2).filter(|&k| s.ct.row(k).iter().any(|&v| v != 0.0)).collect();
+        if keep.is_empty() {
+            return Err(StabilityError::Invalid("C_t is zero: the tool does not move".into()));
+        }
         let Some(c) = controller else {
             return Ok(MillingModel {
                 cutter,
@@ -52,6 +58,7 @@ impl MillingModel {
                 ca: DMatrix::zeros(0, n),
                 bt: s.bt.clone(),
                 ct: s.ct.clone(),
+                keep,
             });
         };
         let nc = c.ac.nrows();
@@ -86,7 +93,7 @@ impl MillingModel {
         };
         let (ca, e0) =
             if c.beta != 0.0 { (pad(&s.ca, false), e0) } else { (DMatrix::zeros(0, nt), DMatrix::zeros(nt, 0)) };
-        Ok(MillingModel { cutter, s0, e0, ca, bt: pad(&s.bt, true), ct: pad(&s.ct, false) })
+        Ok(MillingModel { cutter, s0, e0, ca, bt: pad(&s.bt, true), ct: pad(&s.ct, false), keep })
     }
 
     /// State dimension of the closed loop.
@@ -151,9 +158,12 @@ impl PeriodicDde for MillingDde<'_> {
     }
     fn delayed_output(&self) -> DMatrix<f64> {
         let m = self.model;
-        let mut cd = DMatrix::zeros(2 + m.ca.nrows(), m.dim());
-        cd.rows_mut(0, 2).copy_from(&m.ct);
-        cd.rows_mut(2, m.ca.nrows()).copy_from(&m.ca);
+        let r = m.keep.len();
+        let mut cd = DMatrix::zeros(r + m.ca.nrows(), m.dim());
+        for (i, &k) in m.keep.iter().enumerate() {
+            cd.row_mut(i).copy_from(&m.ct.row(k));
+        }
+        cd.rows_mut(r, m.ca.nrows()).copy_from(&m.ca);
         cd
     }
     fn averaged(&self, t0: f64, t1: f64) -> (DMatrix<f64>, DMatrix<f64>) {
@@ -163,9 +173,12 @@ impl PeriodicDde for MillingDde<'_> {
         let hd = DMatrix::from_fn(2, 2, |i, j| h[(i, j)]);
         let bh = &m.bt * hd * self.depth;
         let a = &m.s0 + &bh * &m.ct;
-        let mut bd = DMatrix::zeros(m.dim(), 2 + m.e0.ncols());
-        bd.columns_mut(0, 2).copy_from(&(-bh));
-        bd.columns_mut(2, m.e0.ncols()).copy_from(&m.e0);
+        let r = m.keep.len();
+        let mut bd = DMatrix::zeros(m.dim(), r + m.e0.ncols());
+        for (i, &k) in m.keep.iter().enumerate() {
+            bd.column_mut(i).copy_from(&(-bh.column(k)));
+        }
+        bd.columns_mut(r, m.e0.ncols()).copy_from(&m.e0);
         (a, bd)
     }
 }
