@@ -246,7 +246,9 @@ impl Cutter {
         let (s, c) = phi.sin_cos();
         let factor = match self.law {
             ForceLaw::Linear => 1.0,
-            ForceLaw::Power { x_f, feed_per_tooth } => x_f * (feed_per_tooth * s).powf(x_f - 1.0),
+            // |sin|: a node rounded onto the far side of a zero of sin (pieces end there) must
+            // not give NaN; the piece test in `averaged` keeps the sign right otherwise
+            ForceLaw::Power { x_f, feed_per_tooth } => x_f * (feed_per_tooth * s.abs()).powf(x_f - 1.0),
         };
         let u = [-c * self.kt - s * self.kr, s * self.kt - c * self.kr];
         Matrix2::new(u[0] * s, u[0] * c, u[1] * s, u[1] * c) * factor
@@ -295,7 +297,8 @@ impl Cutter {
             }
             cuts.sort_by(f64::total_cmp);
             for w in cuts.windows(2) {
-                if w[1] - w[0] > 0.0 && self.engaged(0.5 * (w[0] + w[1])) {
+                // pieces narrower than rounding (a breakpoint met twice) carry nothing
+                if w[1] - w[0] > 1e-12 * (1.0 + w[1].abs()) && self.engaged(0.5 * (w[0] + w[1])) {
                     sum += self.rule.singular(w[0], w[1], k, |p| self.tooth(p));
                 }
             }

@@ -152,3 +152,14 @@ fn semi_discretisation_converges_as_one_over_m_squared() {
     );
     assert!(ratio > 3.5 && ratio < 4.5, "ratio of successive differences {ratio} (4 for O(1/m²))");
 }
+
+#[test]
+fn power_law_monodromy_is_finite_where_a_sub_interval_ends_on_a_zero_of_sin() {
+    // 36000 rpm, m = 40: the last sub-interval of tooth 1 ends within rounding of φ = π, which
+    // once produced a piece [π, π + ulp] evaluated at sin < 0 (NaN)
+    let model = seed002(0.744, None).unwrap();
+    for m in [15, 30, 40, 60] {
+        let phi = delay_stability::monodromy(&model.at(36000.0, 1e-3).unwrap(), m).unwrap();
+        assert!(phi.iter().all(|v| v.is_finite()), "m = {m}");
+    }
+}

@@ -93,7 +93,9 @@ impl<'a> SdFmuCheck<'a> {
     /// Late / mid peak of `|x(t) − x(t − τ)|` over `duration` seconds (module docs).
     pub fn growth_ratio(&self, rpm: f64, depth: f64, duration: f64) -> Result<f64, StudyError> {
         if !(rpm > 0.0 && depth >= 0.0 && duration > 0.0 && self.step > 0.0) {
-            return Err(StudyError::Invalid(format!("need rpm > 0, depth >= 0, duration > 0 (got {rpm}, {depth}, {duration})")));
+            return Err(StudyError::Invalid(format!(
+                "need rpm > 0, depth >= 0, duration > 0 (got {rpm}, {depth}, {duration})"
+            )));
         }
         let cfg = RunConfig {
             start: Some(0.0),
@@ -113,5 +115,34 @@ impl<'a> SdFmuCheck<'a> {
             Err(e) => Err(e.into()),
             Ok(_) => Ok(obs.windows.ratio()),
         }
+    }
+
+    /// The time-domain boundary: bisection in depth on `[lo, hi]` (ratio < 1 at `lo`, > 1 at
+    /// `hi`, checked) to a relative bracket `rel_tol`.
+    pub fn boundary(
+        &self,
+        rpm: f64,
+        (mut lo, mut hi): (f64, f64),
+        duration: f64,
+        rel_tol: f64,
+    ) -> Result<f64, StudyError> {
+        for (d, grow) in [(lo, false), (hi, true)] {
+            let r = self.growth_ratio(rpm, d, duration)?;
+            if (r > 1.0) != grow {
+                return Err(StudyError::Invalid(format!(
+                    "bracket: depth {d:e} m at {rpm} rpm has growth ratio {r:.4}, expected {} 1",
+                    if grow { "above" } else { "below" }
+                )));
+            }
+        }
+        while hi / lo - 1.0 > rel_tol {
+            let mid = 0.5 * (lo + hi);
+            if self.growth_ratio(rpm, mid, duration)? > 1.0 {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        Ok(0.5 * (lo + hi))
     }
 }

@@ -13,14 +13,19 @@ use studies::sd_validation::SdFmuCheck;
 #[test]
 fn fmu_decays_below_and_grows_above_the_sd_boundary_at_hopf_and_flip_points() {
     let dir = packaging::fmu_dir();
-    assert!(dir.join("MillingPlant.fmu").is_file(), "no FMUs in {}: run `cargo run --release -p packaging`", dir.display());
+    assert!(
+        dir.join("MillingPlant.fmu").is_file(),
+        "no FMUs in {}: run `cargo run --release -p packaging`",
+        dir.display()
+    );
     let sys = closed_loop_system(&dir).unwrap();
     let seed = PlantParams::default();
     let mut down = PlantParams::default();
     down.cutting.milling = MillingMode::Down;
     down.cutting.radial_engagement = 0.8e-3; // a_e/D = 0.05
     let o = BisectionOptions { m: 40, start: 0.3e-3, growth: 1.1, max: 0.1, rel_tol: 1e-5 };
-    let cases = [(&seed, 2600.0, Bifurcation::Hopf), (&down, 1700.0, Bifurcation::Hopf), (&down, 4200.0, Bifurcation::Flip)];
+    let cases =
+        [(&seed, 2600.0, Bifurcation::Hopf), (&down, 1700.0, Bifurcation::Hopf), (&down, 4200.0, Bifurcation::Flip)];
     let mut failures = Vec::new();
     for (plant, rpm, kind) in cases {
         let model = seed000_model(plant).unwrap();

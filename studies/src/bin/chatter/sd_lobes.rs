@@ -59,12 +59,19 @@ pub struct SdLobesArgs {
     /// A fast, coarse run (5 speeds, m = 10, tolerance 1e-3) for tests.
     #[arg(long)]
     pub quick: bool,
+    /// Speeds [rpm] at which to bisect the time-domain boundary through `MillingPlant.fmu`
+    /// (seed 000 family only; `target/fmu`), printed beside the SD boundary.
+    #[arg(long, value_delimiter = ',')]
+    pub validate_rpm: Vec<f64>,
+    /// Simulated time per time-domain run [s].
+    #[arg(long, default_value_t = 1.5)]
+    pub duration: f64,
     /// Output directory (sd_lobes.csv).
     #[arg(long, default_value = "sd-lobes-out")]
     pub out: PathBuf,
 }
 
-fn seed000(a: &SdLobesArgs) -> Result<delay_stability::milling::MillingModel> {
+fn seed000_params(a: &SdLobesArgs) -> Result<milling_plant::PlantParams> {
     let mut plant: Resolved<_, _> = Resolved { params: plant_by_name(&a.plant)?, inputs: Default::default() };
     if let Some(path) = &a.system {
         let sys = SystemFile::open(path, Some(&packaging::fmu_dir()))?;
@@ -78,7 +85,32 @@ fn seed000(a: &SdLobesArgs) -> Result<delay_stability::milling::MillingModel> {
         fmu_params::apply_text::<fmu_plant::MillingPlant>(&mut plant, name, &o.value.to_string())
             .map_err(|e| anyhow::anyhow!("--set {s}: {e}"))?;
     }
-    Ok(seed000_model(&plant.params)?)
+    Ok(plant.params)
+}
+
+/// SD boundary and the time-domain boundary through the plant FMU at each speed of `--validate-rpm`.
+fn validate(a: &SdLobesArgs, plant: &milling_plant::PlantParams, o: &BisectionOptions) -> Result<()> {
+    let model = seed000_model(plant)?;
+    let sys = studies::scenario::closed_loop_system(&packaging::fmu_dir())?;
+    let check = studies::sd_validation::SdFmuCheck::new(&sys, plant)?;
+    for &rpm in &a.validate_rpm {
+        let c = delay_stability::critical_value(|d| model.at(rpm, d), o).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let Some(sd) = c.value else {
+            println!("{rpm} rpm: stable up to {} mm, nothing to validate", a.max_mm);
+            continue;
+        };
+        let t = Instant::now();
+        let fmu = check.boundary(rpm, (0.9 * sd, 1.1 * sd), a.duration, 2e-3)?;
+        println!(
+            "{rpm} rpm: SD {:.4} mm ({}), MillingPlant.fmu time domain {:.4} mm ({:+.2} %) [{:.1} s]",
+            sd * 1e3,
+            c.kind().map_or("none", |k| k.name()),
+            fmu * 1e3,
+            (fmu / sd - 1.0) * 100.0,
+            t.elapsed().as_secs_f64()
+        );
+    }
+    Ok(())
 }
 
 pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
@@ -90,7 +122,7 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
             let p = Preset::by_name(name)?;
             (p.model()?, p.speed_range(), name.clone())
         }
-        None => (seed000(a)?, (1000.0, 3000.0), format!("{} plant", a.plant)),
+        None => (seed000_model(&seed000_params(a)?)?, (1000.0, 3000.0), format!("{} plant", a.plant)),
     };
     let rpm_min = a.rpm_min.unwrap_or(range.0);
     let rpm_max = a.rpm_max.unwrap_or(range.1);
@@ -136,6 +168,10 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
         None => println!("stable up to {} mm at every speed", a.max_mm),
     }
     println!("wrote {}", csv.display());
+    if !a.validate_rpm.is_empty() {
+        ensure!(a.preset.is_none(), "--validate-rpm runs MillingPlant.fmu: the seed 000 family only");
+        validate(a, &seed000_params(a)?, &BisectionOptions { rel_tol: 1e-5, ..o })?;
+    }
     Ok(())
 }
 
