@@ -14,7 +14,7 @@
 //!   over a sub-interval.
 //! * [`sd`]: the discrete map over one period (the monodromy matrix Φ), its spectral radius and
 //!   the classification of the critical multiplier ([`Bifurcation`]: Hopf, flip, fold).
-//! * [`lobes`]: the critical value of a parameter (the axial depth) by a bracketing scan and
+//! * [`mod@lobes`]: the critical value of a parameter (the axial depth) by a bracketing scan and
 //!   bisection of `ρ(Φ) = 1`, for many speeds in parallel (rayon) with a progress callback.
 //! * [`milling`]: the milling model builder: a linear structure (modes with mass-normalised
 //!   shapes, or any state-space model), the time-periodic directional matrix of the teeth

@@ -79,3 +79,27 @@ fn the_sign_and_the_transpose_of_the_gain_matter() {
         assert!(depth < 0.2e-3, "{name}: {depth}");
     }
 }
+
+#[test]
+fn exact_boundary_of_a_single_mode_has_the_classic_minimum() {
+    // one mode along x, full immersion, z = 4: H_xx = −K_r exactly, so F_x = −a K_r (x − x(t−τ))
+    // and the lobe minimum over speed is 2kζ(1 + ζ)/K_r
+    use delay_stability::milling::{Cutter, ForceLaw, MillingModel, ModeShape, Structure};
+    let (m, k, zeta, kr) = (30.0f64, 2.4e7f64, 0.0088, 210e6);
+    let mode = ModeShape { omega: (k / m).sqrt(), zeta, tool: [1.0 / m.sqrt(), 0.0], actuator: [0.0, 0.0] };
+    let s = Structure::from_modes(&[mode]).unwrap();
+    let cutter = Cutter::new(4, 0.0, std::f64::consts::PI, 760e6, kr, ForceLaw::Linear).unwrap();
+    let model = MillingModel::new(&s, cutter, None).unwrap();
+    let ti = model.time_invariant();
+    // the lobe between 2000 and 3000 rpm, 10 rpm steps (its bottom is flat to 1e-4 over a step)
+    let min = (0..=100)
+        .map(|i| ti.critical_depth(2000.0 + 10.0 * i as f64, 3000).unwrap().unwrap().depth)
+        .fold(f64::INFINITY, f64::min);
+    let analytic = 2.0 * k * zeta * (1.0 + zeta) / kr;
+    assert!((min / analytic - 1.0).abs() < 1e-3, "{min} vs {analytic}");
+    // and the SD agrees with the exact boundary at one speed
+    let o = BisectionOptions { m: 40, start: 1e-3, growth: 1.1, max: 0.5, rel_tol: 1e-6 };
+    let sd = critical_value(|a| model.at(2500.0, a), &o).unwrap().value.unwrap();
+    let exact = ti.critical_depth(2500.0, 40_000).unwrap().unwrap().depth;
+    assert!((sd / exact - 1.0).abs() < 2e-3, "{sd} vs {exact}");
+}
