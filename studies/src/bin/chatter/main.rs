@@ -5,6 +5,8 @@
 //! chatter lobes  [--plant seed|ozsoy] [--controllers off,pid,fopid,adrc_fopid] [--pid kp,ki,kd]
 //!                  [--fopid kp,ki,kd,λ,μ] [--adrc kp,ki,kd,λ,μ] [--rpm-min 1000] [--rpm-max 3000]
 //!                  [--points 2001] [--out DIR]
+//! chatter sd-lobes [--plant seed|ozsoy] [--set plant.NAME=VALUE] [--preset seed002-6.1|seed002-6.1-closed|seed002-6.2]
+//!                  [--m 40] [--points 41] [--rpm-min ..] [--rpm-max ..] [--quick] [--out DIR]
 //! chatter tune   [--plant seed|ozsoy] [--structures pid,fopid,adrc_fopid] [--runs 10] [--seed 1]
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
@@ -24,6 +26,7 @@ mod common;
 mod depth_study;
 mod lobes;
 mod main_job;
+mod sd_lobes;
 mod tables;
 mod tune;
 mod validate;
@@ -50,6 +53,8 @@ enum Cmd {
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
     Lobes(lobes::LobesArgs),
+    /// Semi-discretisation lobes (time-periodic, multi-DOF, Hopf/flip): seed 000 plant or a seed 002 preset.
+    SdLobes(sd_lobes::SdLobesArgs),
     /// PSO tuning (N runs per structure); best gains as JSON and CSV, Table A1 statistics.
     Tune(tune::TuneArgs),
     /// Table 6 (seed plant, open and closed loop) and the Table 8 uncontrolled row (Ozsoy plant).
@@ -83,6 +88,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::MainJob(a) => main_job::main_job(a),
         Cmd::DepthStudy(a) => depth_study::depth_study(a),
         Cmd::Lobes(a) => lobes::lobes(a),
+        Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
         Cmd::Tune(a) => tune::tune(a),
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),
