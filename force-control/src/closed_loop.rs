@@ -44,7 +44,14 @@ pub fn simulate(
     let h = ctrl.sample_period / substeps as f64;
     let o = p.outputs();
     let mut out = Vec::with_capacity(steps + 1);
-    out.push(LoopSample { t: 0.0, force: o.force, reference_force: 0.0, feed_command: 0.0, depth: o.depth, controller: c.outputs() });
+    out.push(LoopSample {
+        t: 0.0,
+        force: o.force,
+        reference_force: 0.0,
+        feed_command: 0.0,
+        depth: o.depth,
+        controller: c.outputs(),
+    });
     for j in 0..steps {
         let t = j as f64 * h;
         let y = p.outputs().force;

@@ -110,7 +110,11 @@ impl StateSpace {
             && self.a.len() == n
             && self.a.iter().all(|r| r.len() == n && r.iter().all(|x| x.is_finite()))
             && self.b.iter().chain(&self.c).all(|x| x.is_finite());
-        if ok { Ok(()) } else { Err(ForceControlError::Model("state-space model of inconsistent size or not finite".into())) }
+        if ok {
+            Ok(())
+        } else {
+            Err(ForceControlError::Model("state-space model of inconsistent size or not finite".into()))
+        }
     }
 }
 

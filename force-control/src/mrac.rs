@@ -361,7 +361,8 @@ impl FrohMrac {
             s = s1;
         }
         let out = self.outputs_now(integral / h, end);
-        if ![out.feed_command, out.feed_hold, out.reference_force, out.feed_command_rate].iter().all(|x| x.is_finite()) {
+        if ![out.feed_command, out.feed_hold, out.reference_force, out.feed_command_rate].iter().all(|x| x.is_finite())
+        {
             return Err(ForceControlError::Input("the command left the finite range".into()));
         }
         self.last = out;
@@ -378,7 +379,14 @@ impl FrohMrac {
         let sig = [self.y_past, self.u_past, self.r_past, self.xm].concat();
         let more = [self.t_k, self.u_k, self.slope, self.r_k, self.r_slope];
         let rst = [self.rst.r.as_slice(), &self.rst.s, &self.rst.t].concat();
-        if sig.iter().chain(&more).chain(&rst).chain(&self.reference.num).chain(&self.reference.den).any(|x| !x.is_finite()) {
+        if sig
+            .iter()
+            .chain(&more)
+            .chain(&rst)
+            .chain(&self.reference.num)
+            .chain(&self.reference.den)
+            .any(|x| !x.is_finite())
+        {
             return Err("controller signals not finite".into());
         }
         let reference = self.params.reference_model().map_err(|e| e.to_string())?;
@@ -386,7 +394,10 @@ impl FrohMrac {
             return Err("the reference model does not match the parameters".into());
         }
         let o = &self.last;
-        if ![o.feed_command, o.feed_command_rate, o.feed_hold, o.feed_sample, o.reference_force].iter().all(|x| x.is_finite()) {
+        if ![o.feed_command, o.feed_command_rate, o.feed_hold, o.feed_sample, o.reference_force]
+            .iter()
+            .all(|x| x.is_finite())
+        {
             return Err("the last outputs are not finite".into());
         }
         if self.t_base.is_some_and(|t| !t.is_finite()) || self.k_next > u64::MAX / 2 {

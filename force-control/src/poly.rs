@@ -98,10 +98,7 @@ pub fn diophantine(a: &[f64], b0: f64, ac: &[f64]) -> Result<(Vec<f64>, Vec<f64>
             }
         }
     }
-    let x = m
-        .lu()
-        .solve(&rhs)
-        .ok_or_else(|| ForceControlError::Design("singular Diophantine system".into()))?;
+    let x = m.lu().solve(&rhs).ok_or_else(|| ForceControlError::Design("singular Diophantine system".into()))?;
     let mut r1 = vec![1.0];
     r1.extend(x.iter().take(nr));
     let s = x.iter().skip(nr).copied().collect();

@@ -86,7 +86,12 @@ fn with_the_true_parameters_the_loop_follows_the_reference_model_at_the_samples(
             let fm = ctrl.reference_model().unwrap().simulate(&vec![f_ref; n + 1]);
             for k in 0..=n {
                 let s = &run[k * substeps as usize];
-                assert!((s.force - fm[k]).abs() <= 1e-9 * f_ref, "beta {beta}, M {substeps}, k {k}: {} vs {}", s.force, fm[k]);
+                assert!(
+                    (s.force - fm[k]).abs() <= 1e-9 * f_ref,
+                    "beta {beta}, M {substeps}, k {k}: {} vs {}",
+                    s.force,
+                    fm[k]
+                );
                 // the controller's continuous reference model agrees at the samples
                 assert!((s.reference_force - fm[k]).abs() <= 1e-9 * f_ref, "F_m at k {k}");
             }
