@@ -87,10 +87,17 @@ fn state_survives_serialize_bitwise_and_corruptions_are_refused() {
         let mut bad = bytes.clone();
         bad[at..at + 8].copy_from_slice(&(-1.0f64).to_le_bytes());
         reseal(&mut bad);
-        assert!(matches!(Snapshot::<MillingForcePlant>::deserialize(&bad), Err(CallError::Error(m)) if m.contains("invalid state")));
+        assert!(
+            matches!(Snapshot::<MillingForcePlant>::deserialize(&bad), Err(CallError::Error(m)) if m.contains("invalid state"))
+        );
     }
-    let (refused, loaded) =
-        checks::corrupted_states_never_panic_or_hang::<MillingForcePlant>(&bytes, 0x2f6b_1d3e_99aa_0c41, 2000, fresh, H);
+    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<MillingForcePlant>(
+        &bytes,
+        0x2f6b_1d3e_99aa_0c41,
+        2000,
+        fresh,
+        H,
+    );
     println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }
 

@@ -110,9 +110,8 @@ impl FrohMracController {
 
 impl Fmi2Model for FrohMracController {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> = LazyLock::new(|| {
-            TABLE.model_description(&MracParams::default()).expect("valid FrohMracController table")
-        });
+        static MD: LazyLock<ModelDescription> =
+            LazyLock::new(|| TABLE.model_description(&MracParams::default()).expect("valid FrohMracController table"));
         &MD
     }
 
