@@ -63,7 +63,7 @@ fn the_fmu_steps_the_core_bitwise_and_follows_the_depth_profile() {
         core.step(H, &i).unwrap();
     }
     assert_eq!(real(&mut inst, "F_p").to_bits(), core.outputs().force.to_bits());
-    assert_eq!(real(&mut inst, "b"), 4.0);
+    assert_eq!(real(&mut inst, "b").to_bits(), 4.0f64.to_bits());
     assert!((real(&mut inst, "K_p") - 4.0 * 25.174825).abs() < 1e-4);
 }
 

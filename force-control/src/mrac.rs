@@ -141,7 +141,7 @@ pub fn design(theta: &[f64; 3], reference: &DiscreteTf) -> Result<Rst, ForceCont
         return Err(ForceControlError::Design(format!("b0 = {b0} (theta {theta:?})")));
     }
     let zero = -b1 / b0;
-    if !(zero.abs() < 1.0) {
+    if zero.is_nan() || zero.abs() >= 1.0 {
         return Err(ForceControlError::Design(format!("plant zero {zero} is not stable: it cannot be cancelled")));
     }
     if reference.den.len() != 4 {

@@ -55,8 +55,7 @@ impl Default for DepthProfile {
 impl DepthProfile {
     /// A constant depth.
     pub fn constant(b: f64) -> Self {
-        let mut p = DepthProfile::default();
-        p.segments = 1;
+        let mut p = DepthProfile { segments: 1, ..Default::default() };
         p.b[0] = b;
         p
     }

@@ -52,13 +52,13 @@ impl Rls {
         let pphi: Vec<f64> = (0..n).map(|i| (0..n).map(|j| self.p[i * n + j] * phi[j]).sum()).collect();
         let denom = self.lambda + phi.iter().zip(&pphi).map(|(a, b)| a * b).sum::<f64>();
         let k: Vec<f64> = pphi.iter().map(|x| x / denom).collect();
-        for i in 0..n {
-            self.theta[i] += k[i] * eps;
+        for (t, ki) in self.theta.iter_mut().zip(&k) {
+            *t += ki * eps;
         }
         // P − K φᵀP = P − K (Pφ)ᵀ (P symmetric)
-        for i in 0..n {
-            for j in 0..n {
-                self.p[i * n + j] = (self.p[i * n + j] - k[i] * pphi[j]) / self.lambda;
+        for (row, ki) in self.p.chunks_mut(n).zip(&k) {
+            for (x, pj) in row.iter_mut().zip(&pphi) {
+                *x = (*x - ki * pj) / self.lambda;
             }
         }
         for i in 0..n {
@@ -83,7 +83,7 @@ impl Rls {
         if self.p.len() != n * n {
             return Err("RLS covariance of the wrong size".into());
         }
-        if !(self.lambda > 0.0 && self.lambda <= 1.0) || !(self.trace_max > 0.0) {
+        if !(self.lambda > 0.0 && self.lambda <= 1.0 && self.trace_max > 0.0) {
             return Err("RLS forgetting factor or trace limit out of range".into());
         }
         if self.theta.iter().chain(&self.p).any(|x| !x.is_finite()) || (0..n).any(|i| self.p[i * n + i] < 0.0) {
