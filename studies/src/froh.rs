@@ -54,6 +54,9 @@ pub struct SweepPoint {
     pub beta: f64,
     /// J over the first 30 periods [N·s].
     pub j: f64,
+    /// The sampled reading of J: `T Σ_{k<30} |F_p(kT) − F_m(kT)|` (the paper calls its J "a
+    /// good approximation of the area", which reads as a sum over the samples) [N·s].
+    pub j_samples: f64,
     /// J over the first 30 periods with the true (a, b₀, b₁) of the chip lag and no adaptation
     /// [N·s]: the part of J that is intersample mismatch (and the unmodelled τ_s), not
     /// estimation.
@@ -91,6 +94,8 @@ pub struct ReadingSummary {
     pub overshoot_0: f64,
     /// argmin in [−0.45, 0.05] and J(argmin) < J(0).
     pub gate: bool,
+    /// The sampled reading: argmin, J(argmin)/J(0), J(−0.2)/J(0).
+    pub sampled: (f64, f64, f64),
 }
 
 /// Options of the study.
@@ -129,6 +134,15 @@ pub fn cost(run: &[LoopSample], t0: f64, len: f64) -> f64 {
     run.windows(2)
         .filter(|w| w[0].t >= t0 - 1e-9 && w[1].t <= t0 + len + 1e-9)
         .map(|w| 0.5 * (w[1].t - w[0].t) * (e(&w[0]) + e(&w[1])))
+        .sum()
+}
+
+/// `T Σ |F_p − F_m|` over the samples `t_k = kT` in `[t0, t0 + len)` (`substeps` points per T).
+pub fn sampled_cost(run: &[LoopSample], substeps: u32, t: f64, t0: f64, len: f64) -> f64 {
+    run.iter()
+        .step_by(substeps as usize)
+        .filter(|s| s.t >= t0 - 1e-9 && s.t < t0 + len - 1e-9)
+        .map(|s| t * (s.force - s.reference_force).abs())
         .sum()
 }
 
@@ -178,6 +192,7 @@ pub fn sweep_point(
         reading,
         beta,
         j: cost(&run, 0.0, len),
+        j_samples: sampled_cost(&run, o.substeps, t, 0.0, len),
         j_true_model,
         j_after,
         overshoot,
@@ -198,6 +213,9 @@ pub fn sweep(
     let best = pts.iter().min_by(|a, b| a.j.total_cmp(&b.j)).expect("a non-empty grid");
     let at = |beta: f64| pts.iter().find(|s| (s.beta - beta).abs() < 1e-9);
     let j0 = at(0.0).map_or(f64::NAN, |s| s.j);
+    let best_s = pts.iter().min_by(|a, b| a.j_samples.total_cmp(&b.j_samples)).expect("a non-empty grid");
+    let js0 = at(0.0).map_or(f64::NAN, |s| s.j_samples);
+    let sampled = (best_s.beta, best_s.j_samples / js0, at(-0.2).map_or(f64::NAN, |s| s.j_samples) / js0);
     let summary = ReadingSummary {
         reading,
         tau_c,
@@ -209,6 +227,7 @@ pub fn sweep(
         overshoot_argmin: best.overshoot[0],
         overshoot_0: at(0.0).map_or(f64::NAN, |s| s.overshoot[0]),
         gate: (-0.45..=0.05).contains(&best.beta) && best.j < j0,
+        sampled,
     };
     Ok((pts, summary))
 }
@@ -225,15 +244,16 @@ pub fn locus_csv(points: &[ZeroPoint]) -> String {
 /// The sweep as CSV.
 pub fn sweep_csv(points: &[SweepPoint]) -> String {
     let mut s = String::from(
-        "reading,beta,J_first30,J_first30_true_model,J_after_step1,J_after_step2,J_after_step3,overshoot_seg1,overshoot_seg2,overshoot_seg3,overshoot_seg4,design_skips,a_hat,b0_hat,b1_hat\n",
+        "reading,beta,J_first30,J_first30_samples,J_first30_true_model,J_after_step1,J_after_step2,J_after_step3,overshoot_seg1,overshoot_seg2,overshoot_seg3,overshoot_seg4,design_skips,a_hat,b0_hat,b1_hat\n",
     );
     let col = |v: &[f64], i: usize| v.get(i).map_or(String::new(), |x| format!("{x:.9}"));
     for p in points {
         s += &format!(
-            "{},{},{:.9},{:.9},{},{},{},{},{},{},{},{},{:.9},{:.9},{:.9}\n",
+            "{},{},{:.9},{:.9},{:.9},{},{},{},{},{},{},{},{},{:.9},{:.9},{:.9}\n",
             p.reading,
             p.beta,
             p.j,
+            p.j_samples,
             p.j_true_model,
             col(&p.j_after, 0),
             col(&p.j_after, 1),
@@ -254,11 +274,11 @@ pub fn sweep_csv(points: &[SweepPoint]) -> String {
 /// The summary as a Markdown table.
 pub fn summary_markdown(rows: &[ReadingSummary]) -> String {
     let mut s = String::from(
-        "| τ_c reading | τ_c [ms] | NMP boundary β | argmin J | J(argmin)/J(0) | J(−0.2)/J(0) | J(0) [N·s] | overshoot argmin / β=0 | gate |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| τ_c reading | τ_c [ms] | NMP boundary β | argmin J | J(argmin)/J(0) | J(−0.2)/J(0) | J(0) [N·s] | overshoot argmin / β=0 | gate | sampled J: argmin, J(argmin)/J(0), J(−0.2)/J(0) |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         s += &format!(
-            "| {} | {:.2} | {} | {:.2} | {:.3} | {:.3} | {:.2} | {:.1} % / {:.1} % | {} |\n",
+            "| {} | {:.2} | {} | {:.2} | {:.3} | {:.3} | {:.2} | {:.1} % / {:.1} % | {} | {:.2}, {:.3}, {:.3} |\n",
             r.reading,
             r.tau_c * 1e3,
             r.nmp_boundary.map_or("none".into(), |b| format!("{b:.3}")),
@@ -268,7 +288,10 @@ pub fn summary_markdown(rows: &[ReadingSummary]) -> String {
             r.j0,
             100.0 * r.overshoot_argmin,
             100.0 * r.overshoot_0,
-            if r.gate { "pass" } else { "finding" }
+            if r.gate { "pass" } else { "finding" },
+            r.sampled.0,
+            r.sampled.1,
+            r.sampled.2
         );
     }
     s

@@ -7,13 +7,13 @@ from fmpy.validation import validate_fmu
 from conftest import fmu_path
 
 
-@pytest.mark.parametrize("name", ["MillingPlant", "ChatterController"])
+@pytest.mark.parametrize("name", ["MillingPlant", "ChatterController", "MillingForcePlant", "FrohMracController"])
 def test_fmpy_validate_reports_no_problems(name):
     problems = validate_fmu(str(fmu_path(name)))
     assert problems == [], "\n".join(problems)
 
 
-@pytest.mark.parametrize("name", ["MillingPlant", "ChatterController"])
+@pytest.mark.parametrize("name", ["MillingPlant", "ChatterController", "MillingForcePlant", "FrohMracController"])
 def test_model_description_is_co_simulation_with_units(name):
     md = read_model_description(str(fmu_path(name)))
     assert md.coSimulation is not None and md.coSimulation.modelIdentifier == name
