@@ -38,3 +38,20 @@ def test_rust_master_matches_an_fmpy_loop_to_1e_12(tmp_path):
     assert np.all(np.abs(force[settled] - 1200.0) < 12.0), force[settled].min()
     b = np.array(py["plant.b"])
     assert np.all(b[(t > 3.001) & (t < 5.999)] == 4.0) and b[-1] == 1.0, "depth 4 mm from 3 s, 1 mm from 6 s"
+
+
+def test_each_fmu_simulates_alone_in_fmpy_with_defaults():
+    """FMPy's own co-simulation driver: the plant with a constant 20 mm/s command settles at
+    K_p(2 mm) * 20 = 1007 N; the controller with its default 1.2 kN reference and a zero force
+    measurement commands a growing feed (it sees no force) without failing."""
+    from fmpy import simulate_fmu
+    from conftest import fmu_path
+
+    plant = simulate_fmu(str(fmu_path("MillingForcePlant")), stop_time=2.5, output_interval=60 / 715 / 20,
+                         start_values={"f_c": 20.0}, fmi_type="CoSimulation")
+    kp = 1200.0 * 2.0 * 60.0 / (715.0 * 4.0)
+    assert abs(plant["F_p"][-1] - kp * 20.0) < 1e-6 * kp * 20.0
+    assert np.all(plant["b"] == 2.0)
+    ctrl = simulate_fmu(str(fmu_path("FrohMracController")), stop_time=1.0, output_interval=60 / 715 / 20,
+                        fmi_type="CoSimulation")
+    assert np.all(np.isfinite(ctrl["f_c"])) and ctrl["f_c"][-1] > 0.0
