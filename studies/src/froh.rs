@@ -13,8 +13,8 @@
 //!   model driven by the FROH of `F_ref`. Also J over 30 periods after each depth step and the
 //!   overshoot `(max F_p − F_ref)/F_ref` in each depth segment.
 //!
-//! The controller's initial model is the paper's reading `K̂ = 0.5 K_p(2 mm)`, `τ̂ = 1.5 τ_c`
-//! (with the τ_c of the reading), λ = 0.98, P₀ = 100 I.
+//! The controller's initial model is the reading `K̂ = 0.5 K_p(2 mm)`, `τ̂ = 1.5 τ_c` (with the
+//! τ_c of the reading; both factors are options), λ = 0.98, P₀ = 100 I.
 
 use force_control::froh::{self, DiscreteTf};
 use force_control::{ForceControlError, ForcePlantParams, LoopSample, MracParams, simulate};
@@ -113,6 +113,10 @@ pub struct FrohStudy {
     pub f_ref: f64,
     /// Spindle periods in the cost.
     pub periods: usize,
+    /// Initial model: K̂ as a fraction of K_p at the first depth (paper reading 0.5).
+    pub gain_factor: f64,
+    /// Initial model: τ̂ as a multiple of τ_c (paper reading 1.5).
+    pub tau_factor: f64,
 }
 
 impl Default for FrohStudy {
@@ -124,6 +128,8 @@ impl Default for FrohStudy {
             duration: 12.0,
             f_ref: 1200.0,
             periods: 30,
+            gain_factor: 0.5,
+            tau_factor: 1.5,
         }
     }
 }
@@ -167,7 +173,12 @@ pub fn sweep_point(
     beta: f64,
 ) -> Result<SweepPoint, ForceControlError> {
     let plant = ForcePlantParams { tau_c, ..Default::default() };
-    let ctrl = MracParams { beta, tau_estimate: 1.5 * tau_c, ..Default::default() };
+    let ctrl = MracParams {
+        beta,
+        gain_estimate: o.gain_factor * plant.gain(plant.depth.b[0]),
+        tau_estimate: o.tau_factor * tau_c,
+        ..Default::default()
+    };
     let t = ctrl.sample_period;
     let steps = (o.duration / t * o.substeps as f64).round() as usize;
     let run = simulate(&plant, &ctrl, o.f_ref, o.substeps, steps)?;
@@ -207,7 +218,19 @@ pub fn sweep(
     reading: &'static str,
     tau_c: f64,
 ) -> Result<(Vec<SweepPoint>, ReadingSummary), ForceControlError> {
-    let pts: Vec<SweepPoint> = o.betas.iter().map(|&b| sweep_point(o, reading, tau_c, b)).collect::<Result<_, _>>()?;
+    // β where the initial model's zero is already unstable cannot start (the paper leaves
+    // these out): skipped, not in the results
+    let mut pts = Vec::new();
+    for &b in &o.betas {
+        match sweep_point(o, reading, tau_c, b) {
+            Ok(p) => pts.push(p),
+            Err(ForceControlError::Design(_)) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    if pts.is_empty() {
+        return Err(ForceControlError::Design(format!("no β of the grid can start for τ_c = {tau_c}")));
+    }
     let p = ForcePlantParams { tau_c, ..Default::default() };
     let nmp_boundary = froh::nmp_boundary(&p.model(2.0), p.spindle_period(), -1.0, 0.0)?;
     let best = pts.iter().min_by(|a, b| a.j.total_cmp(&b.j)).expect("a non-empty grid");

@@ -54,3 +54,13 @@ fn chatter_froh_quick_writes_the_table_and_csvs() {
     assert!(std::fs::read_to_string(d.join("froh_zeros.csv")).unwrap().lines().count() == 1 + 3 * 9);
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+#[test]
+fn beta_values_whose_initial_model_is_non_minimum_phase_are_left_out() {
+    // τ̂ = 0.5 τ_c puts the initial model's boundary at −Γ₀/(2Γ₁) ≈ −0.571: β = −0.6 cannot start
+    let o = FrohStudy { betas: vec![-0.6, 0.0], duration: 3.0, substeps: 5, tau_factor: 0.5, ..Default::default() };
+    let (reading, tau_c) = froh::tau_c_readings()[0];
+    let (pts, s) = froh::sweep(&o, reading, tau_c).unwrap();
+    assert_eq!(pts.len(), 1);
+    assert!(pts[0].beta.abs() < 1e-12 && s.argmin.abs() < 1e-12);
+}

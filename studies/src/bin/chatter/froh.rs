@@ -17,14 +17,25 @@ pub struct FrohArgs {
     /// Communication steps per sample period (the cost's quadrature grid).
     #[arg(long, default_value_t = 20)]
     pub substeps: u32,
+    /// Initial model: K̂ as a fraction of K_p(2 mm) (the θ₀ sensitivity; reading 0.5).
+    #[arg(long, default_value_t = 0.5)]
+    pub gain_factor: f64,
+    /// Initial model: τ̂ as a multiple of τ_c (reading 1.5).
+    #[arg(long, default_value_t = 1.5)]
+    pub tau_factor: f64,
     /// Output directory (froh_zeros.csv, froh_sweep.csv, froh_summary.md).
     #[arg(long, default_value = "froh-out")]
     pub out: PathBuf,
 }
 
 pub fn froh(a: &FrohArgs) -> Result<()> {
-    let mut o =
-        FrohStudy { betas: froh::beta_grid(-0.6, 1.0, a.beta_step), substeps: a.substeps, ..Default::default() };
+    let mut o = FrohStudy {
+        betas: froh::beta_grid(-0.6, 1.0, a.beta_step),
+        substeps: a.substeps,
+        gain_factor: a.gain_factor,
+        tau_factor: a.tau_factor,
+        ..Default::default()
+    };
     if a.quick {
         o.betas = froh::beta_grid(-0.6, 1.0, 0.2);
         o.locus_betas = froh::beta_grid(-1.0, 1.0, 0.25);
