@@ -37,6 +37,10 @@ pub use platforms::Build;
 /// `ClosedLoopTable2.ssp`), and the studies' scenario when no `.ssp` is at hand.
 pub const CLOSED_LOOP_SSD: &str = include_str!("../scenarios/ClosedLoop.ssd");
 
+/// Seed 004's closed loop (MillingForcePlant + FrohMracController),
+/// `packaging/scenarios/ForceControl.ssd`: the `SystemStructure.ssd` of `ForceControl.ssp`.
+pub const FORCE_CONTROL_SSD: &str = include_str!("../scenarios/ForceControl.ssd");
+
 /// One FMU product of the project.
 pub struct Product {
     /// Cargo package of the cdylib.
@@ -50,7 +54,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 2] = [
+pub const PRODUCTS: [Product; 4] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -62,6 +66,18 @@ pub const PRODUCTS: [Product; 2] = [
         dir: "fmu-controller/cdylib",
         description: fmu_controller::ChatterController::description,
         documentation: fmu_controller::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-force-plant-cdylib",
+        dir: "fmu-force-plant/cdylib",
+        description: fmu_force_plant::MillingForcePlant::description,
+        documentation: fmu_force_plant::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-froh-mrac-cdylib",
+        dir: "fmu-froh-mrac/cdylib",
+        description: fmu_froh_mrac::FrohMracController::description,
+        documentation: fmu_froh_mrac::DOCUMENTATION,
     },
 ];
 
@@ -220,8 +236,17 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     let list = dir.join(PRODUCT_LIST);
     std::fs::write(&list, product_list_json())?;
     written.push(list);
+    let in_ssd = |ssd: &str| -> Vec<(&str, &Path)> {
+        fmus.iter()
+            .filter(|(n, _)| ssd.contains(&format!("resources/{n}\"")))
+            .map(|(n, p)| (n.as_str(), p.as_path()))
+            .collect()
+    };
+    let ssp = dir.join("ForceControl.ssp");
+    ssp::write_ssp_archive(&ssp, FORCE_CONTROL_SSD, &in_ssd(FORCE_CONTROL_SSD))?;
+    written.push(ssp);
     let ssp = dir.join("ClosedLoop.ssp");
-    let refs: Vec<(&str, &Path)> = fmus.iter().map(|(n, p)| (n.as_str(), p.as_path())).collect();
+    let refs = in_ssd(CLOSED_LOOP_SSD);
     ssp::write_ssp_archive(&ssp, CLOSED_LOOP_SSD, &refs)?;
     written.push(ssp);
     let ssp = dir.join("ClosedLoopTable2.ssp");
@@ -302,5 +327,21 @@ mod tests {
         let dir = target.join("ssd-test");
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("ClosedLoop.ssd"), crate::CLOSED_LOOP_SSD).unwrap();
+    }
+
+    /// `ForceControl.ssd` (seed 004) is canonical, and its step is an integer fraction of the
+    /// controller's sample period, as FrohMracController requires.
+    #[test]
+    fn the_force_control_system_is_canonical_and_steps_a_fraction_of_the_sample_period() {
+        let d = SystemDescription::from_xml(crate::FORCE_CONTROL_SSD, "ForceControl.ssd", None).unwrap();
+        assert_eq!(d.to_xml().unwrap(), crate::FORCE_CONTROL_SSD, "ForceControl.ssd is not canonical");
+        assert_eq!(d.components.len(), 2);
+        assert_eq!(d.connections.len(), 3, "force feedback, command mean and command slope");
+        let ts = fmu_froh_mrac::TABLE.read_parameters(&fmi2_export::Values::from_description(
+            <fmu_froh_mrac::FrohMracController as fmi2_export::Fmi2Model>::description(),
+        ));
+        let ts = ts.unwrap().sample_period;
+        let m = ts / d.master.step_size.unwrap();
+        assert!((m - m.round()).abs() < 1e-9 && m.round() >= 1.0, "Ts/h = {m}");
     }
 }

@@ -74,6 +74,7 @@ pub mod depth_study;
 mod error;
 pub mod fmu_params;
 pub mod fmu_validation;
+pub mod froh;
 pub mod lobes;
 pub mod loop_frf;
 pub mod main_job;

@@ -10,6 +10,7 @@
 //! chatter tune   [--plant seed|ozsoy] [--structures pid,fopid,adrc_fopid] [--runs 10] [--seed 1]
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
+//! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
 //! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
 //! chatter run DIR [--shard I/N | --index K | --case ID,.. | --slurm-array]
@@ -24,6 +25,7 @@ mod cases;
 mod check;
 mod common;
 mod depth_study;
+mod froh;
 mod lobes;
 mod main_job;
 mod sd_lobes;
@@ -49,6 +51,8 @@ struct Cli {
 enum Cmd {
     /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
     DepthStudy(depth_study::DepthStudyArgs),
+    /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
+    Froh(froh::FrohArgs),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
@@ -87,6 +91,7 @@ fn run(cli: &Cli) -> Result<()> {
     match &cli.cmd {
         Cmd::MainJob(a) => main_job::main_job(a),
         Cmd::DepthStudy(a) => depth_study::depth_study(a),
+        Cmd::Froh(a) => froh::froh(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
         Cmd::Tune(a) => tune::tune(a),
