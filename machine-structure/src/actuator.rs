@@ -59,7 +59,7 @@ impl ActuatorParams {
         if !all.clone().all(|x| x.is_finite()) {
             return Err("actuator matrices and direction must be finite".into());
         }
-        if !(self.f_max >= 0.0) {
+        if self.f_max.is_nan() || self.f_max < 0.0 {
             return Err("f_max must be >= 0".into());
         }
         if !(self.internal_step.is_finite() && self.internal_step > 0.0) {

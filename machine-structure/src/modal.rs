@@ -447,6 +447,7 @@ impl ModalStructure {
     }
 
     fn rk4(&mut self, t: f64, dt: f64, f: &[f64; MAX_MODES]) {
+        #[allow(clippy::needless_range_loop)] // i indexes the modes, their forces and states alike
         for i in 0..self.p.n_modes as usize {
             let m = self.p.modes[i];
             let c = m.damping();

@@ -41,7 +41,7 @@ const GL4: [(f64, f64); 4] = [
 /// `H(φ)` (module docs) at nominal feed `feed` [m], row-major.
 pub fn h_matrix(p: &ProcessParams, feed: f64, phi: f64) -> [[f64; 2]; 2] {
     let (s, c) = phi.sin_cos();
-    if p.coefficients.law == crate::params::ForceLaw::Power && !(feed * s > 0.0) {
+    if p.coefficients.law == crate::params::ForceLaw::Power && feed * s <= 0.0 {
         return [[0.0; 2]; 2]; // the power law's slope at a zero chip: a measure-zero set of angles
     }
     let (dt, dr) = p.tooth_force_slope(feed * s);

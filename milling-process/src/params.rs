@@ -82,7 +82,7 @@ pub struct ProcessParams {
     pub teeth: u32,
     /// Use [`ProcessParams::tooth_angles`] instead of a uniform pitch.
     pub variable_pitch: bool,
-    /// Angle ψ_j of tooth j from tooth 0 [rad] (ψ_0 = 0, increasing, < 2π), first Z used.
+    /// Angle ψ_j of tooth j [rad] (increasing, spanning less than 2π), first Z used.
     pub tooth_angles: [f64; MAX_PITCH_TEETH],
     /// Tool radius R [m].
     pub tool_radius: f64,
@@ -153,8 +153,9 @@ impl ProcessParams {
                 return Err(format!("variable pitch takes at most {MAX_PITCH_TEETH} teeth (got {z})"));
             }
             let a = &self.tooth_angles[..z];
-            if a[0] != 0.0 || a.windows(2).any(|w| !(w[1] > w[0])) || !(a[z - 1] < 2.0 * PI) {
-                return Err("tooth_angles must start at 0, increase and stay below 2 pi".into());
+            let finite = a.iter().all(|x| x.is_finite());
+            if !finite || a.windows(2).any(|w| w[1] <= w[0]) || a[z - 1] - a[0] >= 2.0 * PI {
+                return Err("tooth_angles must increase and span less than 2 pi".into());
             }
         }
         pos("tool_radius", self.tool_radius)?;
