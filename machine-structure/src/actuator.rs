@@ -205,8 +205,7 @@ mod tests {
         a.step(1e-5, 100.0).unwrap();
         assert!(a.outputs().saturated && (a.outputs().force - 27.0).abs() < 0.1);
         assert!(a.step(1e-5, f64::NAN).is_err());
-        let mut p = ActuatorParams::default();
-        p.direction_angle = std::f64::consts::FRAC_PI_2;
+        let p = ActuatorParams { direction_angle: std::f64::consts::FRAC_PI_2, ..Default::default() };
         let mut a = InertialActuator::new(&p).unwrap();
         a.step(1e-5, 1.0).unwrap();
         assert!(a.outputs().force_xy[0].abs() < 1e-15 && a.outputs().force_xy[1] > 0.9);

@@ -542,8 +542,7 @@ mod tests {
 
     #[test]
     fn exact_and_rk4_agree_with_modes_in_both_axes_drift_and_noise() {
-        let mut p = ModalParams::default();
-        p.n_modes = 4;
+        let mut p = ModalParams { n_modes: 4, ..Default::default() };
         p.modes[1].tool = [0.3, 0.8];
         p.modes[3].actuator = [0.5, -0.2];
         p.disturbance.sine_amplitude = 20.0;
@@ -600,7 +599,7 @@ mod tests {
         let mut s = ModalStructure::new(&p).unwrap();
         // a force along x at the tool point does not excite a mode that moves the tool along y
         s.step(1e-3, &StructureInputs { tool_force: [100.0, 0.0], ..Default::default() }).unwrap();
-        assert_eq!(s.outputs().tool, [0.0, 0.0]);
+        assert!(s.outputs().tool.iter().all(|x| x.abs() < 1e-30));
         s.step(1e-3, &StructureInputs { actuator_force: [100.0, 0.0], ..Default::default() }).unwrap();
         let o = s.outputs();
         assert!(o.tool[1] > 0.0 && (o.actuator[0] - 2.0 * o.tool[1]).abs() < 1e-20);

@@ -169,8 +169,7 @@ mod tests {
     fn linear_full_immersion_four_teeth_is_the_instantaneous_sum() {
         // x_F = 1, full immersion, Z = 4: Σ_j H(φ_j) = −K_r I + K_t J at every angle (seed 002 §3.1),
         // so the average is that constant: A₀ = a_p (−K_r I + K_t J)
-        let mut p = ProcessParams::default();
-        p.radial_engagement = 16e-3;
+        let p = ProcessParams { radial_engagement: 16e-3, ..Default::default() };
         let (kt, kr, ap) = (p.coefficients.kt, p.coefficients.kr, p.axial_depth);
         let exact = [[-ap * kr, -ap * kt], [ap * kt, -ap * kr]];
         assert!(rel(directional_matrix(&p, 5e-5, 16), exact) < 1e-12);
@@ -189,8 +188,7 @@ mod tests {
     #[test]
     fn power_law_sub_interval_averages_converge_to_the_reference() {
         // seed 002: x_F = 0.744, full immersion (singular at both ends)
-        let mut p = ProcessParams::default();
-        p.radial_engagement = 16e-3;
+        let mut p = ProcessParams { radial_engagement: 16e-3, ..Default::default() };
         p.coefficients.law = ForceLaw::Power;
         p.coefficients.exponent = 0.744;
         p.coefficients.kt = 462e6 * 1e-3f64.powf(-0.744); // 462 N/mm^(1+x_F) in SI

@@ -274,7 +274,7 @@ mod tests {
         h.push(XySample { t: 1.0, theta: 2.0, r: [2.0, -1.0] });
         let (t, r) = h.at_angle(0.5).unwrap();
         assert!((t - 0.25).abs() < 1e-15 && (r[0] - 0.5).abs() < 1e-15 && (r[1] - 0.5).abs() < 1e-15);
-        assert_eq!(h.at_angle(3.0).unwrap().1, [2.0, -1.0]);
+        assert_eq!(h.at_angle(3.0).unwrap().1.map(f64::to_bits), [2.0f64.to_bits(), (-1.0f64).to_bits()]);
         h.push(XySample { t: 2.0, theta: 2.5, r: [f64::NAN, 0.0] });
         assert!(h.validate().unwrap_err().contains("finite"));
     }

@@ -334,7 +334,7 @@ mod tests {
         run(&p, a, 2000, |_, pr| fa.push(pr.outputs()));
         run(&p, b, 2000, |_, pr| fb.push(pr.outputs()));
         assert_eq!(fa, fb);
-        assert!(fa.iter().all(|o| o.workpiece_force == [-o.force[0], -o.force[1]]));
+        assert!(fa.iter().all(|o| o.workpiece_force.map(f64::to_bits) == [-o.force[0], -o.force[1]].map(f64::to_bits)));
     }
 
     #[test]
@@ -346,8 +346,7 @@ mod tests {
             ProcessInputs { tool: [r, r], ..Default::default() }
         };
         for (multiple, lo, hi) in [(true, 0.999e-4, 1.0e-4 * 1.0001), (false, 1e-3, 1.0)] {
-            let mut p = ProcessParams::default();
-            p.multiple_regeneration = multiple;
+            let p = ProcessParams { multiple_regeneration: multiple, ..Default::default() };
             let mut peak: f64 = 0.0;
             run(&p, retract, 3001, |k, pr| {
                 if k >= 2250 {
@@ -360,8 +359,7 @@ mod tests {
 
     #[test]
     fn variable_pitch_delays_follow_the_gaps_and_all_laws_cut() {
-        let mut p = ProcessParams::default();
-        p.variable_pitch = true;
+        let mut p = ProcessParams { variable_pitch: true, ..Default::default() };
         p.tooth_angles[..4].copy_from_slice(&[0.0, 1.4, 3.2, 4.6]);
         let mut delay = 0.0;
         run(&p, |_| ProcessInputs::default(), 4000, |_, pr| delay = pr.outputs().delay);
@@ -383,7 +381,7 @@ mod tests {
         let bad = ProcessInputs { tool: [f64::NAN, 0.0], ..Default::default() };
         let e = pr.step(H, &bad).unwrap_err();
         assert!(matches!(e, ProcessError::Input(ref m) if m.contains("tool_x")), "{e}");
-        assert_eq!(pr.time(), 0.0);
+        assert!(pr.time().abs() < 1e-300, "the refused step was taken");
         let slow = ProcessInputs { spindle_speed_rpm: 1.0, ..Default::default() };
         assert!(matches!(pr.step(H, &slow), Err(ProcessError::Input(_))));
         // 0 rpm: the history does not grow
