@@ -30,6 +30,14 @@ use std::process::Command;
 /// `ClosedLoopTable2.ssp`), and the studies' scenario when no `.ssp` is at hand.
 pub const CLOSED_LOOP_SSD: &str = include_str!("../scenarios/ClosedLoop.ssd");
 
+/// Seed 000's plant decomposed into process + structure + actuator, with the controller
+/// (`packaging/scenarios/DecomposedPlant.ssd`, shipped as `DecomposedPlant.ssp`).
+pub const DECOMPOSED_PLANT_SSD: &str = include_str!("../scenarios/DecomposedPlant.ssd");
+
+/// The FMUs of [`DECOMPOSED_PLANT_SSD`].
+pub const DECOMPOSED_PLANT_FMUS: [&str; 4] =
+    ["MillingProcess.fmu", "ModalStructure.fmu", "InertialActuator.fmu", "ChatterController.fmu"];
+
 /// One FMU product of the project.
 pub struct Product {
     /// Cargo package of the cdylib.
@@ -43,7 +51,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 2] = [
+pub const PRODUCTS: [Product; 5] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -55,6 +63,24 @@ pub const PRODUCTS: [Product; 2] = [
         dir: "fmu-controller/cdylib",
         description: fmu_controller::ChatterController::description,
         documentation: fmu_controller::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-process-cdylib",
+        dir: "fmu-process/cdylib",
+        description: fmu_process::MillingProcess::description,
+        documentation: fmu_process::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-structure-cdylib",
+        dir: "fmu-structure/cdylib",
+        description: fmu_structure::ModalStructure::description,
+        documentation: fmu_structure::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-actuator-cdylib",
+        dir: "fmu-actuator/cdylib",
+        description: fmu_actuator::InertialActuator::description,
+        documentation: fmu_actuator::DOCUMENTATION,
     },
 ];
 
@@ -202,6 +228,10 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     let ssp = dir.join("ClosedLoopTable2.ssp");
     ssp::write_ssp_archive(&ssp, &table2_ssd()?, &refs)?;
     written.push(ssp);
+    let ssp = dir.join("DecomposedPlant.ssp");
+    let parts: Vec<(&str, &Path)> = refs.iter().filter(|(n, _)| DECOMPOSED_PLANT_FMUS.contains(n)).cloned().collect();
+    ssp::write_ssp_archive(&ssp, DECOMPOSED_PLANT_SSD, &parts)?;
+    written.push(ssp);
     Ok(written)
 }
 
@@ -246,6 +276,26 @@ pub fn table2_ssd() -> Result<String> {
 #[cfg(test)]
 mod tests {
     use ssp::{ConnectorKind, SystemDescription};
+
+    /// The decomposed plant's SSD is canonical, names only shipped FMUs, and connects every
+    /// connection end to a declared connector of the right kind.
+    #[test]
+    fn the_embedded_decomposed_plant_is_canonical_and_complete() {
+        let d = SystemDescription::from_xml(crate::DECOMPOSED_PLANT_SSD, "DecomposedPlant.ssd", None).unwrap();
+        assert_eq!(d.to_xml().unwrap(), crate::DECOMPOSED_PLANT_SSD, "DecomposedPlant.ssd is not canonical");
+        assert_eq!(d.components.len(), 4);
+        for c in &d.components {
+            let file = c.source.strip_prefix("resources/").unwrap();
+            assert!(crate::DECOMPOSED_PLANT_FMUS.contains(&file), "{file}");
+        }
+        assert_eq!(d.connections.len(), 8);
+        for c in &d.connections {
+            let s = d.component(c.start_element.as_deref().unwrap()).unwrap();
+            let e = d.component(c.end_element.as_deref().unwrap()).unwrap();
+            assert!(s.connectors.iter().any(|x| x.name == c.start_connector && x.kind == ConnectorKind::Output));
+            assert!(e.connectors.iter().any(|x| x.name == c.end_connector && x.kind == ConnectorKind::Input));
+        }
+    }
 
     /// The embedded SSD is in the writer's canonical form; also writes
     /// `target/ssd-test/ClosedLoop.ssd` for `tests/python/test_ssd_schema.py`.

@@ -67,6 +67,7 @@
 //! | [`fmu_validation`] | the same check through the plant and controller FMUs in the Rust FMI master |
 
 pub mod closed_loop;
+pub mod decomposed;
 pub mod depth_study;
 mod error;
 pub mod fmu_params;

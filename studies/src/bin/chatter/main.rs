@@ -17,6 +17,7 @@
 
 mod check;
 mod common;
+mod decomposed;
 mod depth_study;
 mod lobes;
 mod main_job;
@@ -40,6 +41,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Seed 000's plant as process + structure + actuator FMUs vs the monolithic plant (open-loop RMS).
+    Decomposed(decomposed::DecomposedArgs),
     /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
     DepthStudy(depth_study::DepthStudyArgs),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
@@ -70,6 +73,7 @@ fn main() -> std::process::ExitCode {
 fn run(cli: &Cli) -> Result<()> {
     match &cli.cmd {
         Cmd::MainJob(a) => main_job::main_job(a),
+        Cmd::Decomposed(a) => decomposed::decomposed(a),
         Cmd::DepthStudy(a) => depth_study::depth_study(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::Tune(a) => tune::tune(a),
