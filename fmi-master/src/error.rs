@@ -63,7 +63,7 @@ pub enum FmuError {
     MissingBinary {
         /// FMU file name.
         fmu: String,
-        /// The platform we need (`linux64`).
+        /// The platform we need (the host's, e.g. `linux64`).
         platform: &'static str,
         /// Platforms the archive has binaries for.
         available: String,
@@ -189,6 +189,31 @@ pub enum SetupError {
         looked_at: String,
         /// What to do about it, or empty.
         hint: String,
+    },
+    /// The communication step costs an FMU more internal steps per `fmi2DoStep` than its
+    /// declared work bound (`WorkBound` vendor annotation) allows: refused before instantiating.
+    #[error(
+        "component {component} ({fmu}): a communication step of {step} s costs {cost:.3e} internal steps \
+         ({parameter} = {internal_step} s), more than the {limit:e} per fmi2DoStep the FMU declares \
+         (WorkBound in its modelDescription.xml); use a step of at most {max_step:.6e} s"
+    )]
+    StepTooCostly {
+        /// Component name.
+        component: String,
+        /// FMU file name.
+        fmu: String,
+        /// The communication step.
+        step: f64,
+        /// The internal-step parameter.
+        parameter: String,
+        /// Its value in this run.
+        internal_step: f64,
+        /// Internal steps one call would cost.
+        cost: f64,
+        /// The declared limit per call.
+        limit: f64,
+        /// The largest step within the limit.
+        max_step: f64,
     },
     /// Anything else about the system description.
     #[error("{0}")]

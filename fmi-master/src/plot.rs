@@ -64,7 +64,7 @@ fn stacked<'a>(path: &'a Path, title: &str, n: usize) -> Result<(Area<'a>, Vec<A
 }
 
 /// Min/max envelope of a long signal in `bins` time bins (for drawing).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Envelope {
     t0: f64,
     t1: f64,

@@ -6,7 +6,7 @@
 use num_complex::Complex;
 
 /// A spectrum: bin frequencies [Hz] and amplitudes (units of the signal).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Spectrum {
     /// Frequencies, `k·fs/L`.
     pub freq: Vec<f64>,

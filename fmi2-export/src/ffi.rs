@@ -12,10 +12,14 @@
 //!
 //! Ownership: `fmi2Instantiate` returns `Box::into_raw` of a [`Component`];
 //! `fmi2FreeInstance` takes it back (null tolerated). FMU states are boxed
-//! [`Snapshot`]s, freed by `fmi2FreeFMUstate`. Both start with a magic number derived from
-//! the model's GUID, checked on every call: a handle of another FMU or of the other kind
-//! (component for state) is `fmi2Error`, not undefined behaviour (a pointer to unmapped
-//! memory cannot be detected). Strings returned by
+//! [`Snapshot`]s owned by the instance that made them (`fmi2GetFMUstate`,
+//! `fmi2DeSerializeFMUstate`): the component keeps the addresses of its live states, a state
+//! handle is used only if it is one of them (it is never read otherwise, so a junk pointer, a
+//! freed state, a state of another instance or of another FMU is `fmi2Error` without touching
+//! its memory), `fmi2FreeFMUstate` frees one and `fmi2FreeInstance` frees those left.
+//! Components and states start with a magic number derived from the model's GUID, checked on
+//! every call: a component of another FMU or a state passed as a component is `fmi2Error`,
+//! not undefined behaviour (a pointer to unmapped memory cannot be detected). Strings returned by
 //! `fmi2GetString` live in the component until the next `fmi2GetString` call.
 
 #![allow(clippy::missing_safety_doc, missing_docs)]
@@ -34,6 +38,8 @@ pub struct Component<M: Fmi2Model> {
     /// [`component_magic`] of `M` while alive (first field: read before anything else).
     magic: u64,
     inst: Instance<M>,
+    /// Addresses of the live [`BoxedState`]s this instance made (see the module docs).
+    states: Vec<usize>,
     strings: Vec<CString>,
     scratch: Vec<Value>,
 }
@@ -60,21 +66,31 @@ fn state_magic<M: Fmi2Model>() -> u64 {
     magic_of::<M>(b"fmi2-export state ")
 }
 
-/// A new boxed FMU state.
-fn new_state<M: Fmi2Model>(snap: Snapshot<M>) -> fmi2FMUstate {
-    Box::into_raw(Box::new(BoxedState { magic: state_magic::<M>(), snap })) as fmi2FMUstate
+/// A new boxed FMU state, owned by (registered in) `owner`.
+fn new_state<M: Fmi2Model>(owner: &mut Vec<usize>, snap: Snapshot<M>) -> fmi2FMUstate {
+    let s = Box::into_raw(Box::new(BoxedState { magic: state_magic::<M>(), snap }));
+    owner.push(s as usize);
+    s as fmi2FMUstate
 }
 
-/// The snapshot behind a state handle of this model.
+/// The snapshot behind a state handle of this instance (`owned`: its live states).
 ///
 /// # Safety
-/// `s` is null or points to at least 8 readable bytes; if they hold [`state_magic`] it is a
-/// live state of `M`.
-unsafe fn state_ref<'a, M: Fmi2Model>(call: &str, s: fmi2FMUstate) -> CallResult<&'a mut Snapshot<M>> {
+/// Every address in `owned` is a live `BoxedState<M>` (the component's registry); the returned
+/// reference must not outlive it.
+unsafe fn state_ref<'a, M: Fmi2Model>(owned: &[usize], call: &str, s: fmi2FMUstate) -> CallResult<&'a mut Snapshot<M>> {
     if s.is_null() {
         return Err(CallError::Error(format!("{call}: FMUstate is NULL")));
     }
-    // SAFETY: by contract at least the first 8 bytes are readable; unaligned read to be safe.
+    if !owned.contains(&(s as usize)) {
+        return Err(CallError::Error(format!(
+            "{call}: FMUstate {s:p} is not a live state of this instance of {} (made by fmi2GetFMUstate or \
+             fmi2DeSerializeFMUstate on it and not freed): a freed state, a state of another instance or FMU, \
+             or not a state",
+            M::description().model_name
+        )));
+    }
+    // SAFETY: registered states are live `BoxedState<M>`s; the magic number is a second check.
     if unsafe { (s as *const u64).read_unaligned() } != state_magic::<M>() {
         return Err(CallError::Error(format!(
             "{call}: FMUstate {s:p} is not a state of this FMU ({}): wrong magic number",
@@ -207,7 +223,7 @@ unsafe fn with<M: Fmi2Model>(
         }
         Ok(Err(CallError::Error(m))) => {
             comp.inst.log(LogLevel::Error, &m);
-            comp.inst.state = State::Error;
+            comp.inst.enter_error(&m);
             fmi2Error
         }
         Err(p) => {
@@ -275,8 +291,13 @@ pub unsafe fn instantiate<M: Fmi2Model>(
         let resources = unsafe { opt_str(resource_location) }.and_then(resource_path);
         let env = Environment { instance_name: name.to_string(), resources };
         let inst = Instance::<M>::new(env, logging_on != fmi2False, Box::new(sink));
-        let comp =
-            Box::new(Component { magic: component_magic::<M>(), inst, strings: Vec::new(), scratch: Vec::new() });
+        let comp = Box::new(Component {
+            magic: component_magic::<M>(),
+            inst,
+            states: Vec::new(),
+            strings: Vec::new(),
+            scratch: Vec::new(),
+        });
         Box::into_raw(comp) as fmi2Component
     }));
     r.unwrap_or(ptr::null_mut())
@@ -293,6 +314,12 @@ pub unsafe fn free_instance<M: Fmi2Model>(c: fmi2Component) {
     // SAFETY: `c` came from `Box::into_raw` in `instantiate::<M>`.
     let mut comp = unsafe { Box::from_raw(c as *mut Component<M>) };
     comp.magic = 0;
+    for s in std::mem::take(&mut comp.states) {
+        // SAFETY: registered states came from `Box::into_raw` in `new_state` and are freed once.
+        let mut b = unsafe { Box::from_raw(s as *mut BoxedState<M>) };
+        b.magic = 0;
+        let _ = catch_unwind(AssertUnwindSafe(move || drop(b)));
+    }
     let _ = catch_unwind(AssertUnwindSafe(move || drop(comp)));
 }
 
@@ -508,9 +535,9 @@ pub unsafe fn get_fmu_state<M: Fmi2Model>(c: fmi2Component, state: *mut fmi2FMUs
                 return Err(CallError::Error(format!("{CALL}: FMUstate pointer is NULL")));
             }
             if (*state).is_null() {
-                *state = new_state(comp.inst.snapshot());
+                *state = new_state(&mut comp.states, comp.inst.snapshot());
             } else {
-                comp.inst.snapshot_into(state_ref::<M>(CALL, *state)?);
+                comp.inst.snapshot_into(state_ref::<M>(&comp.states, CALL, *state)?);
             }
             Ok(fmi2OK)
         })
@@ -523,7 +550,7 @@ pub unsafe fn set_fmu_state<M: Fmi2Model>(c: fmi2Component, state: fmi2FMUstate)
     // SAFETY: forwarded contract; `state` was returned by this FMU for model `M`.
     unsafe {
         with::<M>(c, "fmi2SetFMUstate", mask::ANY_BUT_FATAL, |comp| {
-            comp.inst.restore(state_ref::<M>("fmi2SetFMUstate", state)?);
+            comp.inst.restore(state_ref::<M>(&comp.states, "fmi2SetFMUstate", state)?);
             Ok(fmi2OK)
         })
     }
@@ -534,9 +561,10 @@ pub unsafe fn set_fmu_state<M: Fmi2Model>(c: fmi2Component, state: fmi2FMUstate)
 pub unsafe fn free_fmu_state<M: Fmi2Model>(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
     // SAFETY: forwarded contract; a non-null `*state` came from `Box::into_raw` here.
     unsafe {
-        with::<M>(c, "fmi2FreeFMUstate", mask::ANY_BUT_FATAL, |_| {
+        with::<M>(c, "fmi2FreeFMUstate", mask::ANY_BUT_FATAL, |comp| {
             if !state.is_null() && !(*state).is_null() {
-                state_ref::<M>("fmi2FreeFMUstate", *state)?;
+                state_ref::<M>(&comp.states, "fmi2FreeFMUstate", *state)?;
+                comp.states.retain(|&s| s != *state as usize);
                 let mut b = Box::from_raw(*state as *mut BoxedState<M>);
                 b.magic = 0;
                 drop(b);
@@ -557,11 +585,11 @@ pub unsafe fn serialized_fmu_state_size<M: Fmi2Model>(
     const CALL: &str = "fmi2SerializedFMUstateSize";
     // SAFETY: forwarded contract.
     unsafe {
-        with::<M>(c, CALL, mask::ANY_BUT_FATAL, |_| {
+        with::<M>(c, CALL, mask::ANY_BUT_FATAL, |comp| {
             if size.is_null() {
                 return Err(CallError::Error(format!("{CALL}: size is NULL")));
             }
-            *size = state_ref::<M>(CALL, state)?.serialize()?.len();
+            *size = state_ref::<M>(&comp.states, CALL, state)?.serialize()?.len();
             Ok(fmi2OK)
         })
     }
@@ -578,8 +606,8 @@ pub unsafe fn serialize_fmu_state<M: Fmi2Model>(
     const CALL: &str = "fmi2SerializeFMUstate";
     // SAFETY: forwarded contract.
     unsafe {
-        with::<M>(c, CALL, mask::ANY_BUT_FATAL, |_| {
-            let data = state_ref::<M>(CALL, state)?.serialize()?;
+        with::<M>(c, CALL, mask::ANY_BUT_FATAL, |comp| {
+            let data = state_ref::<M>(&comp.states, CALL, state)?.serialize()?;
             if size < data.len() {
                 return Err(CallError::Error(format!("{CALL}: buffer of {size} bytes is smaller than {}", data.len())));
             }
@@ -601,16 +629,16 @@ pub unsafe fn deserialize_fmu_state<M: Fmi2Model>(
     const CALL: &str = "fmi2DeSerializeFMUstate";
     // SAFETY: forwarded contract.
     unsafe {
-        with::<M>(c, CALL, mask::ANY_BUT_FATAL, |_| {
+        with::<M>(c, CALL, mask::ANY_BUT_FATAL, |comp| {
             if state.is_null() {
                 return Err(CallError::Error(format!("{CALL}: FMUstate pointer is NULL")));
             }
             let data = slice(CALL, "serializedState", bytes as *const u8, size)?;
             let snap = Snapshot::<M>::deserialize(data)?;
             if (*state).is_null() {
-                *state = new_state(snap);
+                *state = new_state(&mut comp.states, snap);
             } else {
-                *state_ref::<M>(CALL, *state)? = snap;
+                *state_ref::<M>(&comp.states, CALL, *state)? = snap;
             }
             Ok(fmi2OK)
         })

@@ -194,6 +194,8 @@ pub struct Instance<M: Fmi2Model> {
     dirty: bool,
     debug_categories: Vec<bool>,
     sink: Box<dyn LogSink>,
+    /// The message of the `fmi2Error` that put the instance in [`State::Error`].
+    error_cause: Option<String>,
 }
 
 struct StepLog<'a> {
@@ -235,6 +237,7 @@ impl<M: Fmi2Model> Instance<M> {
             dirty: true,
             debug_categories: vec![logging_on; LOG_CATEGORIES.len()],
             sink,
+            error_cause: None,
         }
     }
 
@@ -263,9 +266,27 @@ impl<M: Fmi2Model> Instance<M> {
         self.sink.emit(level, level.category(), message);
     }
 
+    /// Enter [`State::Error`] after a call answered `fmi2Error` with `message`. FMI 2.0
+    /// §2.1.3: "The simulation cannot be continued with this FMU instance"; the ways out are
+    /// `fmi2SetFMUstate` with a state stored before the error, `fmi2Reset` and
+    /// `fmi2FreeInstance` (README "FMI conformance decisions").
+    pub fn enter_error(&mut self, message: &str) {
+        if self.state != State::Error || self.error_cause.is_none() {
+            self.error_cause = Some(message.to_string());
+        }
+        self.state = State::Error;
+    }
+
     /// Check that `call` is allowed in the current state.
     pub fn check_state(&self, call: &str, allowed: u32) -> CallResult<()> {
-        if allowed & mask::bit(self.state) == 0 {
+        if allowed & mask::bit(self.state) == 0 && self.state == State::Error {
+            Err(CallError::error(format!(
+                "{call}: not allowed after an fmi2Error ({}); FMI 2.0 (2.1.3): the simulation cannot be continued \
+                 with this instance: restore a state stored before the error (fmi2SetFMUstate), fmi2Reset or \
+                 fmi2FreeInstance",
+                self.error_cause.as_deref().unwrap_or("a state stored in the error state was restored")
+            )))
+        } else if allowed & mask::bit(self.state) == 0 {
             Err(CallError::error(format!("{call}: not allowed in state {:?}", self.state)))
         } else {
             Ok(())
@@ -344,6 +365,7 @@ impl<M: Fmi2Model> Instance<M> {
         self.stop_time = None;
         self.dirty = true;
         self.state = State::Instantiated;
+        self.error_cause = None;
         Ok(())
     }
 
@@ -537,6 +559,7 @@ impl<M: Fmi2Model> Instance<M> {
     /// Restore a snapshot (`fmi2SetFMUstate`).
     pub fn restore(&mut self, snap: &Snapshot<M>) {
         self.state = snap.state;
+        self.error_cause = None;
         self.values.clone_from(&snap.values);
         self.model.clone_from(&snap.model);
         self.clock = snap.clock;

@@ -288,12 +288,26 @@ pub struct Table<P, I, O> {
     pub header: Header,
     /// Rows.
     pub vars: Variables<P, I, O>,
+    /// The declared work bound: (internal-step parameter, extra internal steps per call).
+    work_bound: Option<(&'static str, f64)>,
 }
 
 impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     /// A table.
     pub fn new(header: Header, vars: Variables<P, I, O>) -> Self {
-        Table { header, vars }
+        Table { header, vars, work_bound: None }
+    }
+
+    /// Declare in `modelDescription.xml` what a step costs (a
+    /// [`WorkBound`](model_description::WorkBound) vendor annotation): `h / p + extra` internal
+    /// steps, `p` being the Real parameter `parameter`, at most
+    /// [`MAX_INTERNAL_STEPS_PER_CALL`](crate::MAX_INTERNAL_STEPS_PER_CALL) per call. It must be
+    /// the model's own [`Fmi2Model::internal_steps`](crate::Fmi2Model::internal_steps) (checked
+    /// by [`checks::work_bound_matches_internal_steps`], feature `checks`), so that a master
+    /// can refuse a too large step before instantiating, exactly as the layer would refuse it.
+    pub fn work_bound(mut self, parameter: &'static str, extra: f64) -> Self {
+        self.work_bound = Some((parameter, extra));
+        self
     }
 
     /// The model description with the start values of `params` (and `I::default()` for inputs).
@@ -328,6 +342,13 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
             b = b.enumeration(t.name, t.description, &t.items);
         }
         b = b.default_experiment(start, stop, step);
+        if let Some((parameter, extra)) = self.work_bound {
+            b = b.work_bound(model_description::WorkBound {
+                max_internal_steps_per_call: crate::MAX_INTERNAL_STEPS_PER_CALL,
+                internal_step_parameter: parameter.into(),
+                extra_internal_steps_per_call: extra,
+            });
+        }
         for v in vars {
             b = b.var(v);
         }

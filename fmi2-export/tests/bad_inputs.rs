@@ -65,6 +65,18 @@ fn every_bad_input_is_refused_with_a_message_and_nothing_crashes() {
     let spp = &mut sp as *mut fmi2String as usize;
     let mut status = fmi2OK;
     let stp = &mut status as *mut fmi2Status as usize;
+    // A state of another live instance, and one of an instance freed since (the export layer
+    // freed the state with its instance: the handle dangles and must not be read).
+    let other = ready("other-owner", &cb);
+    let mut other_state: fmi2FMUstate = ptr::null_mut();
+    let mut gone_state: fmi2FMUstate = ptr::null_mut();
+    unsafe {
+        assert_eq!(api::fmi2GetFMUstate(other, &mut other_state), fmi2OK);
+        let gone = ready("gone-owner", &cb);
+        assert_eq!(api::fmi2GetFMUstate(gone, &mut gone_state), fmi2OK);
+        api::fmi2FreeInstance(gone);
+    }
+    let (other_state, gone_state) = (other_state as usize, gone_state as usize);
     unsafe {
         let g = good.clone();
         let f2 = flipped.clone();
@@ -127,6 +139,22 @@ fn every_bad_input_is_refused_with_a_message_and_nothing_crashes() {
             row("SetFMUstate null", Ready, |c| api::fmi2SetFMUstate(c, ptr::null_mut())),
             row("SetFMUstate junk", Ready, move |c| api::fmi2SetFMUstate(c, junk_ptr as fmi2FMUstate)),
             row("SetFMUstate component as state", Ready, |c| api::fmi2SetFMUstate(c, c as fmi2FMUstate)),
+            row("SetFMUstate of another instance", Ready, move |c| {
+                api::fmi2SetFMUstate(c, other_state as fmi2FMUstate)
+            }),
+            row("SetFMUstate of a freed instance", Ready, move |c| api::fmi2SetFMUstate(c, gone_state as fmi2FMUstate)),
+            row("GetFMUstate into a state of another instance", Ready, move |c| {
+                let mut s = other_state as fmi2FMUstate;
+                api::fmi2GetFMUstate(c, &mut s)
+            }),
+            row("FreeFMUstate of another instance", Ready, move |c| {
+                let mut s = other_state as fmi2FMUstate;
+                api::fmi2FreeFMUstate(c, &mut s)
+            }),
+            row("SerializedFMUstateSize of a freed instance", Ready, move |c| {
+                let mut n = 0usize;
+                api::fmi2SerializedFMUstateSize(c, gone_state as fmi2FMUstate, &mut n)
+            }),
             row("FreeFMUstate junk", Ready, move |c| {
                 let mut s = junk_ptr as fmi2FMUstate;
                 api::fmi2FreeFMUstate(c, &mut s)
@@ -279,6 +307,9 @@ fn every_bad_input_is_refused_with_a_message_and_nothing_crashes() {
         assert!(insts.iter().all(|c| c.is_null()));
         assert!(messages("bad-inst").iter().filter(|m| m.0 == fmi2Error).count() >= 3);
         assert!(junk.iter().all(|&w| w == 0x77), "a junk handle was written to");
+        // the other instance's state is still its own: usable there, freed with it
+        assert_eq!(api::fmi2SetFMUstate(other, other_state as fmi2FMUstate), fmi2OK);
+        api::fmi2FreeInstance(other);
         println!(
             "bad-input table: {} rows refused with a message, {no_component} calls without a valid component \
              answered fmi2Error, {} bad instantiations answered NULL; 0 crashes, 0 hangs, 0 fmi2Fatal",

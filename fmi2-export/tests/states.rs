@@ -102,7 +102,7 @@ fn foreign_and_junk_state_handles_are_errors_with_a_message() {
         let mut junk = vec![0x5au64; 64];
         let j = junk.as_mut_ptr() as fmi2FMUstate;
         assert_eq!(api::fmi2SetFMUstate(c, j), fmi2Error);
-        assert!(last_error("foreign").contains("magic"), "{}", last_error("foreign"));
+        assert!(last_error("foreign").contains("not a live state of this instance"), "{}", last_error("foreign"));
         api::fmi2Reset(c);
         let mut size = 0usize;
         assert_eq!(api::fmi2SerializedFMUstateSize(c, j, &mut size), fmi2Error);
@@ -141,4 +141,46 @@ fn junk_component_handles_are_errors_not_crashes() {
         api::fmi2FreeInstance(j); // ignored, not freed
     }
     assert!(junk.iter().all(|&w| w == 0));
+}
+
+/// FMI 2.0 §2.1.3: after `fmi2Error` "the simulation cannot be continued with this FMU
+/// instance", but "it can be tried to restart the simulation from a formerly stored FMU state by
+/// calling fmi2SetFMUstate" if it "was called before in non-erroneous state". An error of a
+/// harmless call (an unknown value reference) therefore blocks stepping, with a message naming
+/// that error and the ways out; a state stored before the error resumes stepping, one stored in
+/// the error state does not, and `fmi2Reset` starts over.
+#[test]
+fn after_an_error_a_state_stored_before_it_resumes_stepping() {
+    let cb = callbacks(63);
+    let mut x = 0.0;
+    unsafe {
+        let c = ready("after-error", &cb);
+        assert_eq!(api::fmi2DoStep(c, 0.0, 1e-2, 1), fmi2OK);
+        let mut before: fmi2FMUstate = ptr::null_mut();
+        assert_eq!(api::fmi2GetFMUstate(c, &mut before), fmi2OK);
+        assert_eq!(api::fmi2GetReal(c, &9999, 1, &mut x), fmi2Error);
+        assert_eq!(api::fmi2DoStep(c, 1e-2, 1e-2, 1), fmi2Error);
+        let m = last_error("after-error");
+        assert!(
+            m.contains("not allowed after an fmi2Error (fmi2GetReal: unknown value reference 9999")
+                && m.contains("fmi2SetFMUstate")
+                && m.contains("fmi2Reset"),
+            "{m}"
+        );
+        // outputs can still be read in the error state, and a state stored now keeps the error
+        assert_eq!(api::fmi2GetReal(c, &common::vr::X, 1, &mut x), fmi2OK);
+        let mut during: fmi2FMUstate = ptr::null_mut();
+        assert_eq!(api::fmi2GetFMUstate(c, &mut during), fmi2OK);
+        assert_eq!(api::fmi2SetFMUstate(c, before), fmi2OK);
+        assert_eq!(api::fmi2DoStep(c, 1e-2, 1e-2, 1), fmi2OK, "{}", last_error("after-error"));
+        assert_eq!(api::fmi2SetFMUstate(c, during), fmi2OK);
+        assert_eq!(api::fmi2DoStep(c, 1e-2, 1e-2, 1), fmi2Error);
+        assert!(last_error("after-error").contains("a state stored in the error state was restored"));
+        assert_eq!(api::fmi2Reset(c), fmi2OK);
+        assert_eq!(api::fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0), fmi2OK);
+        assert_eq!(api::fmi2EnterInitializationMode(c), fmi2OK);
+        assert_eq!(api::fmi2ExitInitializationMode(c), fmi2OK);
+        assert_eq!(api::fmi2DoStep(c, 0.0, 1e-2, 1), fmi2OK);
+        api::fmi2FreeInstance(c); // frees both states
+    }
 }

@@ -89,6 +89,8 @@ pub static TABLE: LazyLock<Table<ControllerParams, ControllerInputs, ControllerO
             }
         },
     )
+    // what a step costs, as `internal_steps` counts it: for masters, in modelDescription.xml
+    .work_bound("Ts", 1.0)
 });
 
 /// The FMU's parameters (and the `structure` enumeration) holding `p`, as (variable name, value)

@@ -275,3 +275,9 @@ fn a_huge_step_costs_more_than_the_layers_work_bound() {
     assert!(c.internal_steps(1e6) > fmi2_export::MAX_INTERNAL_STEPS_PER_CALL);
     assert!(c.internal_steps(1.0) <= fmi2_export::MAX_INTERNAL_STEPS_PER_CALL);
 }
+
+#[test]
+fn the_declared_work_bound_is_the_controllers_cost() {
+    assert_eq!(fmi2_export::table::checks::work_bound_matches_internal_steps::<ChatterController>(), Ok(true));
+    assert_eq!(ChatterController::description().work_bound().unwrap().internal_step_parameter, "Ts");
+}

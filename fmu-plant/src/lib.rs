@@ -119,6 +119,8 @@ pub static TABLE: LazyLock<Table<PlantParams, PlantInputs, PlantOutputs>> = Lazy
             }
         },
     )
+    // what a step costs, as `internal_steps` counts it: for masters, in modelDescription.xml
+    .work_bound("internal_step", 2.0)
 });
 
 /// The FMU's parameters holding `p`, as (variable name, value) pairs: what a master sets

@@ -166,3 +166,9 @@ fn randomly_corrupted_resealed_states_never_panic_or_hang() {
     );
     println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }
+
+#[test]
+fn the_declared_work_bound_is_the_plants_cost() {
+    assert_eq!(checks::work_bound_matches_internal_steps::<MillingPlant>(), Ok(true));
+    assert_eq!(MillingPlant::description().work_bound().unwrap().internal_step_parameter, "internal_step");
+}

@@ -43,10 +43,20 @@ impl ModelBuilder {
                 type_definitions: None,
                 log_categories: None,
                 default_experiment: None,
+                vendor_annotations: None,
                 model_variables: ModelVariables { variables: Vec::new() },
                 model_structure: ModelStructure::default(),
             },
         }
+    }
+
+    /// Declare the work bound (a [`WORK_BOUND_TOOL`] vendor annotation); checked by
+    /// [`ModelBuilder::build`]: the parameter must be a Real parameter with a positive lower bound.
+    pub fn work_bound(mut self, bound: WorkBound) -> Self {
+        let tools = &mut self.md.vendor_annotations.get_or_insert_with(VendorAnnotations::default).tools;
+        tools.retain(|t| t.name != WORK_BOUND_TOOL);
+        tools.push(Tool { name: WORK_BOUND_TOOL.into(), work_bound: Some(bound) });
+        self
     }
 
     /// Set the model description text.
@@ -155,6 +165,9 @@ impl ModelBuilder {
 
     /// Check the table, derive `ModelStructure` and the GUID.
     pub fn build(mut self) -> Result<ModelDescription, DescriptionError> {
+        if let Some(w) = self.md.work_bound() {
+            check_work_bound(w, &self.md)?;
+        }
         let vars = &self.md.model_variables.variables;
         let mut names = HashSet::new();
         let mut vrs = HashSet::new();
@@ -241,4 +254,26 @@ impl ModelBuilder {
         self.md.guid = format!("{{{}}}", uuid::Uuid::new_v5(&ns, body.as_bytes()));
         Ok(self.md)
     }
+}
+
+/// A declared work bound must be usable by a master: a finite limit above the extra steps, and
+/// an internal-step parameter that is a Real parameter whose lower bound keeps `h / p` finite.
+fn check_work_bound(w: &WorkBound, md: &ModelDescription) -> Result<(), DescriptionError> {
+    let bad = |why: &str| Err(DescriptionError::Invalid(format!("work bound: {why}")));
+    let (max, extra) = (w.max_internal_steps_per_call, w.extra_internal_steps_per_call);
+    if !(max.is_finite() && extra.is_finite() && extra >= 0.0 && max > extra) {
+        return bad(&format!(
+            "maxInternalStepsPerCall {max} must be finite and above extraInternalStepsPerCall {extra} >= 0"
+        ));
+    }
+    let Some(v) = md.variable(&w.internal_step_parameter) else {
+        return bad(&format!("no variable {}", w.internal_step_parameter));
+    };
+    if v.scalar_type() != ScalarType::Real || v.causality != Causality::Parameter {
+        return bad(&format!("{} must be a Real parameter", v.name));
+    }
+    if !v.range().0.is_some_and(|lo| lo > 0.0) {
+        return bad(&format!("{} needs a positive min (the master divides by it)", v.name));
+    }
+    Ok(())
 }

@@ -313,6 +313,15 @@ impl ModelDescription {
         self.variables().iter().find(|v| v.name == name)
     }
 
+    /// The work bound the export layer declared ([`WORK_BOUND_TOOL`]), if any.
+    pub fn work_bound(&self) -> Option<&WorkBound> {
+        self.vendor_annotations
+            .iter()
+            .flat_map(|v| v.tools.iter())
+            .filter(|t| t.name == WORK_BOUND_TOOL)
+            .find_map(|t| t.work_bound.as_ref())
+    }
+
     /// The co-simulation `modelIdentifier`, if the FMU supports co-simulation.
     pub fn model_identifier(&self) -> Option<&str> {
         self.co_simulation.as_ref().map(|c| c.model_identifier.as_str())

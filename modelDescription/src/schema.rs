@@ -52,6 +52,10 @@ pub struct ModelDescription {
     /// Default experiment.
     #[serde(rename = "DefaultExperiment", default, skip_serializing_if = "Option::is_none")]
     pub default_experiment: Option<DefaultExperiment>,
+    /// Vendor annotations (we read and write only the [`WorkBound`] of [`WORK_BOUND_TOOL`];
+    /// other tools' content is skipped when parsing).
+    #[serde(rename = "VendorAnnotations", default, skip_serializing_if = "Option::is_none")]
+    pub vendor_annotations: Option<VendorAnnotations>,
     /// Variables.
     #[serde(rename = "ModelVariables")]
     pub model_variables: ModelVariables,
@@ -216,6 +220,71 @@ pub struct DefaultExperiment {
     pub tolerance: Option<f64>,
     #[serde(rename = "@stepSize", default, skip_serializing_if = "Option::is_none")]
     pub step_size: Option<f64>,
+}
+
+/// `VendorAnnotations`: one `Tool` element per tool.
+#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
+pub struct VendorAnnotations {
+    /// Tools.
+    #[serde(rename = "Tool", default)]
+    pub tools: Vec<Tool>,
+}
+
+/// A `Tool` of `VendorAnnotations`: its name and, for [`WORK_BOUND_TOOL`], the work bound.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Tool {
+    /// Tool name.
+    #[serde(rename = "@name")]
+    pub name: String,
+    /// The work bound ([`WORK_BOUND_TOOL`] only).
+    #[serde(rename = "WorkBound", default, skip_serializing_if = "Option::is_none")]
+    pub work_bound: Option<WorkBound>,
+}
+
+/// The `name` of the vendor-annotation `Tool` that carries a [`WorkBound`]: the export layer
+/// that enforces it.
+pub const WORK_BOUND_TOOL: &str = "fmi2-export";
+
+/// The most work one `fmi2DoStep` may cost, declared so that a master can refuse a step size
+/// before instantiating (`<Tool name="fmi2-export"><WorkBound …/></Tool>`).
+///
+/// A step of size `h` costs `h / p + extraInternalStepsPerCall` internal steps, `p` being the
+/// value of the Real parameter `internalStepParameter` (the model's internal step, in s); the
+/// FMU refuses (`fmi2Error`) a step costing more than `maxInternalStepsPerCall`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WorkBound {
+    /// Most internal steps one `fmi2DoStep` may cost.
+    #[serde(rename = "@maxInternalStepsPerCall")]
+    pub max_internal_steps_per_call: f64,
+    /// Name of the Real parameter holding the internal step (s).
+    #[serde(rename = "@internalStepParameter")]
+    pub internal_step_parameter: String,
+    /// Internal steps a call costs besides `h / p` (partial steps at either end).
+    #[serde(rename = "@extraInternalStepsPerCall", default)]
+    pub extra_internal_steps_per_call: f64,
+}
+
+impl WorkBound {
+    /// Internal steps a communication step `h` costs with the internal step `internal_step`
+    /// (NaN or infinite for a non-positive or non-finite internal step).
+    pub fn cost(&self, h: f64, internal_step: f64) -> f64 {
+        if internal_step > 0.0 && internal_step.is_finite() {
+            h / internal_step + self.extra_internal_steps_per_call
+        } else {
+            f64::NAN
+        }
+    }
+
+    /// Does a step `h` cost more than the bound (or is its cost undefined)?
+    pub fn exceeded(&self, h: f64, internal_step: f64) -> bool {
+        let cost = self.cost(h, internal_step);
+        cost.is_nan() || cost > self.max_internal_steps_per_call
+    }
+
+    /// The largest communication step within the bound for `internal_step`.
+    pub fn max_step(&self, internal_step: f64) -> f64 {
+        (self.max_internal_steps_per_call - self.extra_internal_steps_per_call) * internal_step
+    }
 }
 
 /// `ModelVariables`.

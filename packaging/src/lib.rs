@@ -1,12 +1,17 @@
 //! # Packaging of the project's FMUs
 //!
-//! `cargo run --release -p packaging` builds the model cdylibs in release
-//! mode and writes, under `target/fmu/`:
+//! `cargo run --release -p packaging` builds the model cdylibs (profile
+//! `fmu-release`: no debug info) for each platform it can and writes, under `target/fmu/`:
 //!
 //! * `<modelIdentifier>.fmu` for each product ([`PRODUCTS`]): `modelDescription.xml`
-//!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so`,
+//!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so` and, where
+//!   the toolchain is installed, `binaries/win64/<modelIdentifier>.dll` ([`platforms`]: the
+//!   linux64 binary is built against glibc 2.17 with `cargo zigbuild` when available),
 //!   `documentation/index.html` (generated from the same table) and
 //!   `resources/` (a README naming the FMU; our models read no resource files);
+//! * `products.json`: the model identifiers of all products, in [`PRODUCTS`] order (the
+//!   Python conformance tests parametrize over it, so a product added to [`PRODUCTS`] is
+//!   checked without naming it anywhere else, and a stale `.fmu` left in the folder is not);
 //! * `ClosedLoop.ssp`: the closed-loop system (plant + controller) as a
 //!   standard SSP 1.0 archive with both FMUs under `resources/`;
 //! * `ClosedLoopTable2.ssp`: the same system with the paper's Table 2 controller
@@ -18,12 +23,14 @@
 //! permissions), so rebuilding the same sources gives the same files; the SSDs
 //! are written and edited with the `ssp` crate.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use fmi_archive::{Compression, ZipBuilder};
 use fmi2_export::Fmi2Model;
 use model_description::{ModelDescription, VarKind};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+pub mod platforms;
+pub use platforms::Build;
 
 /// The project's closed-loop system (plant + controller), `packaging/scenarios/ClosedLoop.ssd`:
 /// the `SystemStructure.ssd` of `ClosedLoop.ssp` (and, with the Table 2 bindings, of
@@ -38,6 +45,10 @@ pub const DECOMPOSED_PLANT_SSD: &str = include_str!("../scenarios/DecomposedPlan
 pub const DECOMPOSED_PLANT_FMUS: [&str; 4] =
     ["MillingProcess.fmu", "ModalStructure.fmu", "InertialActuator.fmu", "ChatterController.fmu"];
 
+/// Seed 004's closed loop (MillingForcePlant + FrohMracController),
+/// `packaging/scenarios/ForceControl.ssd`: the `SystemStructure.ssd` of `ForceControl.ssp`.
+pub const FORCE_CONTROL_SSD: &str = include_str!("../scenarios/ForceControl.ssd");
+
 /// One FMU product of the project.
 pub struct Product {
     /// Cargo package of the cdylib.
@@ -51,7 +62,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 5] = [
+pub const PRODUCTS: [Product; 7] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -81,6 +92,18 @@ pub const PRODUCTS: [Product; 5] = [
         dir: "fmu-actuator/cdylib",
         description: fmu_actuator::InertialActuator::description,
         documentation: fmu_actuator::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-force-plant-cdylib",
+        dir: "fmu-force-plant/cdylib",
+        description: fmu_force_plant::MillingForcePlant::description,
+        documentation: fmu_force_plant::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-froh-mrac-cdylib",
+        dir: "fmu-froh-mrac/cdylib",
+        description: fmu_froh_mrac::FrohMracController::description,
+        documentation: fmu_froh_mrac::DOCUMENTATION,
     },
 ];
 
@@ -119,24 +142,19 @@ pub fn packaged(file: &str) -> PathBuf {
     p
 }
 
-/// Build the product cdylibs in release mode.
-pub fn build_cdylibs() -> Result<()> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let mut cmd = Command::new(cargo);
-    cmd.current_dir(workspace_root()).args(["build", "--release", "--lib"]);
-    for p in &PRODUCTS {
-        cmd.args(["-p", p.package]);
+/// Build the product cdylibs for every platform this machine can build ([`platforms::plan`]);
+/// prints what is skipped and why. Returns the builds done.
+pub fn build_cdylibs() -> Result<Vec<Build>> {
+    let venv = workspace_root().join(".venv");
+    let plan = platforms::plan(&venv)?;
+    for (name, why) in &plan.skipped {
+        eprintln!("packaging: {name} skipped: {why}");
     }
-    let status = cmd.status().context("running cargo build for the FMU cdylibs")?;
-    if !status.success() {
-        bail!("cargo build of the FMU cdylibs failed ({status})");
+    let packages: Vec<&str> = PRODUCTS.iter().map(|p| p.package).collect();
+    for build in &plan.builds {
+        platforms::run(build, &workspace_root(), &venv, &packages)?;
     }
-    Ok(())
-}
-
-/// Path of the built shared library of `identifier`.
-pub fn built_library(identifier: &str) -> PathBuf {
-    target_dir().join("release").join(format!("lib{identifier}.so"))
+    Ok(plan.builds)
 }
 
 fn esc(s: &str) -> String {
@@ -192,24 +210,44 @@ pub fn documentation_html(md: &ModelDescription, docs: &str) -> String {
     h
 }
 
-/// Write one `.fmu` archive.
-pub fn write_fmu(md: &ModelDescription, docs: &str, library: &Path, out: &Path) -> Result<()> {
+/// Write one `.fmu` archive with the binary of each of `builds` (one model description, one
+/// GUID, a `binaries/<platform>/` folder per build).
+pub fn write_fmu(md: &ModelDescription, docs: &str, builds: &[Build], out: &Path) -> Result<()> {
     let id = md.model_identifier().context("model has no CoSimulation interface")?;
-    let so = std::fs::read(library).with_context(|| format!("reading {}", library.display()))?;
     let readme =
         format!("{} needs no resource files; this directory exists for masters that expect it.\n", md.model_name);
     let mut zip = ZipBuilder::new();
-    zip.file("modelDescription.xml", md.to_xml()?, Compression::Deflated)
-        .executable(format!("binaries/linux64/{id}.so"), so, Compression::Deflated)
-        .file("documentation/index.html", documentation_html(md, docs), Compression::Deflated)
-        .file("resources/README.txt", readme, Compression::Deflated);
+    zip.file("modelDescription.xml", md.to_xml()?, Compression::Deflated);
+    for build in builds {
+        let library = build.artifact(&target_dir(), id);
+        let bytes = std::fs::read(&library).with_context(|| format!("reading {}", library.display()))?;
+        zip.executable(format!("binaries/{}/{}", build.folder(), build.file_name(id)), bytes, Compression::Deflated);
+    }
+    zip.file("documentation/index.html", documentation_html(md, docs), Compression::Deflated).file(
+        "resources/README.txt",
+        readme,
+        Compression::Deflated,
+    );
     zip.write_to(out)?;
     Ok(())
 }
 
+/// File name of the product list in [`fmu_dir`] (see [`product_list_json`]).
+pub const PRODUCT_LIST: &str = "products.json";
+
+/// The model identifiers of [`PRODUCTS`] as a JSON array of strings (`["MillingPlant", …]`),
+/// written by [`package_all`] as [`PRODUCT_LIST`].
+pub fn product_list_json() -> String {
+    let ids: Vec<String> = PRODUCTS
+        .iter()
+        .map(|p| format!("\"{}\"", (p.description)().model_identifier().expect("co-simulation product")))
+        .collect();
+    format!("[{}]\n", ids.join(", "))
+}
+
 /// Build everything and write all products and `ClosedLoop.ssp`; returns the written paths.
 pub fn package_all() -> Result<Vec<PathBuf>> {
-    build_cdylibs()?;
+    let builds = build_cdylibs()?;
     let dir = fmu_dir();
     let mut written = Vec::new();
     let mut fmus = Vec::new();
@@ -217,20 +255,31 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
         let md = (p.description)();
         let id = md.model_identifier().context("no modelIdentifier")?;
         let out = dir.join(format!("{id}.fmu"));
-        write_fmu(md, p.documentation, &built_library(id), &out)?;
+        write_fmu(md, p.documentation, &builds, &out)?;
         fmus.push((format!("{id}.fmu"), out.clone()));
         written.push(out);
     }
+    let list = dir.join(PRODUCT_LIST);
+    std::fs::write(&list, product_list_json())?;
+    written.push(list);
+    let in_ssd = |ssd: &str| -> Vec<(&str, &Path)> {
+        fmus.iter()
+            .filter(|(n, _)| ssd.contains(&format!("resources/{n}\"")))
+            .map(|(n, p)| (n.as_str(), p.as_path()))
+            .collect()
+    };
+    let ssp = dir.join("ForceControl.ssp");
+    ssp::write_ssp_archive(&ssp, FORCE_CONTROL_SSD, &in_ssd(FORCE_CONTROL_SSD))?;
+    written.push(ssp);
     let ssp = dir.join("ClosedLoop.ssp");
-    let refs: Vec<(&str, &Path)> = fmus.iter().map(|(n, p)| (n.as_str(), p.as_path())).collect();
+    let refs = in_ssd(CLOSED_LOOP_SSD);
     ssp::write_ssp_archive(&ssp, CLOSED_LOOP_SSD, &refs)?;
     written.push(ssp);
     let ssp = dir.join("ClosedLoopTable2.ssp");
     ssp::write_ssp_archive(&ssp, &table2_ssd()?, &refs)?;
     written.push(ssp);
     let ssp = dir.join("DecomposedPlant.ssp");
-    let parts: Vec<(&str, &Path)> = refs.iter().filter(|(n, _)| DECOMPOSED_PLANT_FMUS.contains(n)).cloned().collect();
-    ssp::write_ssp_archive(&ssp, DECOMPOSED_PLANT_SSD, &parts)?;
+    ssp::write_ssp_archive(&ssp, DECOMPOSED_PLANT_SSD, &in_ssd(DECOMPOSED_PLANT_SSD))?;
     written.push(ssp);
     Ok(written)
 }
@@ -327,5 +376,21 @@ mod tests {
         let dir = target.join("ssd-test");
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("ClosedLoop.ssd"), crate::CLOSED_LOOP_SSD).unwrap();
+    }
+
+    /// `ForceControl.ssd` (seed 004) is canonical, and its step is an integer fraction of the
+    /// controller's sample period, as FrohMracController requires.
+    #[test]
+    fn the_force_control_system_is_canonical_and_steps_a_fraction_of_the_sample_period() {
+        let d = SystemDescription::from_xml(crate::FORCE_CONTROL_SSD, "ForceControl.ssd", None).unwrap();
+        assert_eq!(d.to_xml().unwrap(), crate::FORCE_CONTROL_SSD, "ForceControl.ssd is not canonical");
+        assert_eq!(d.components.len(), 2);
+        assert_eq!(d.connections.len(), 3, "force feedback, command mean and command slope");
+        let ts = fmu_froh_mrac::TABLE.read_parameters(&fmi2_export::Values::from_description(
+            <fmu_froh_mrac::FrohMracController as fmi2_export::Fmi2Model>::description(),
+        ));
+        let ts = ts.unwrap().sample_period;
+        let m = ts / d.master.step_size.unwrap();
+        assert!((m - m.round()).abs() < 1e-9 && m.round() >= 1.0, "Ts/h = {m}");
     }
 }

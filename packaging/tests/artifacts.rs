@@ -6,7 +6,9 @@
 //! (the README test command does it first); without the files they fail.
 #![allow(missing_docs)]
 
-use packaging::{PRODUCTS, built_library, fmu_dir, workspace_root};
+mod common;
+use common::{official_headers, packaged_binary};
+use packaging::{PRODUCTS, fmu_dir, workspace_root};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -39,13 +41,13 @@ fn cdylib_name_model_identifier_and_binary_name_are_one_string() {
     }
 }
 
-fn libraries() -> Vec<(String, PathBuf)> {
+/// The linux64 binary of every product, as shipped inside its FMU (extracted into `tmp`).
+fn libraries(tmp: &Path) -> Vec<(String, PathBuf)> {
     PRODUCTS
         .iter()
         .map(|p| {
             let id = (p.description)().model_identifier().unwrap().to_string();
-            let lib = built_library(&id);
-            assert!(lib.exists(), "{} missing: run `cargo run --release -p packaging` first", lib.display());
+            let lib = packaged_binary(&id, "linux64", tmp).expect("every FMU has a linux64 binary");
             (id, lib)
         })
         .collect()
@@ -59,7 +61,8 @@ fn tool(cmd: &str, args: &[&str], lib: &Path) -> String {
 
 #[test]
 fn only_fmi2_symbols_are_exported() {
-    for (id, lib) in libraries() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (id, lib) in libraries(tmp.path()) {
         let out = tool("nm", &["-D", "--defined-only"], &lib);
         let symbols: Vec<&str> = out.lines().filter_map(|l| l.split_whitespace().nth(2)).collect();
         let foreign: Vec<&&str> = symbols.iter().filter(|s| !s.starts_with("fmi2")).collect();
@@ -84,7 +87,8 @@ fn depends_on_the_c_runtime_only() {
         "libdl.so.2",
         "librt.so.1",
     ];
-    for (id, lib) in libraries() {
+    let tmp = tempfile::tempdir().unwrap();
+    for (id, lib) in libraries(tmp.path()) {
         let out = tool("readelf", &["-d"], &lib);
         for line in out.lines().filter(|l| l.contains("(NEEDED)")) {
             let name = line.split('[').nth(1).and_then(|s| s.split(']').next()).unwrap();
@@ -93,30 +97,9 @@ fn depends_on_the_c_runtime_only() {
     }
 }
 
-/// Directory of the official FMI 2.0 headers inside the `fmi-sys` package
-/// (a never-built dependency of this crate, fetched by cargo).
-fn official_headers() -> PathBuf {
-    let out = Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
-        .args(["metadata", "--format-version", "1"])
-        .current_dir(workspace_root())
-        .output()
-        .expect("cargo metadata");
-    assert!(out.status.success(), "cargo metadata failed: {}", String::from_utf8_lossy(&out.stderr));
-    let text = String::from_utf8(out.stdout).unwrap();
-    let pos = text.find("\"name\":\"fmi-sys\"").expect("fmi-sys in cargo metadata");
-    let tail = &text[pos..];
-    let key = "\"manifest_path\":\"";
-    let start = tail.find(key).unwrap() + key.len();
-    let manifest = &tail[start..start + tail[start..].find('"').unwrap()];
-    let dir = Path::new(manifest).parent().unwrap().join("fmi-standard2").join("headers");
-    assert!(dir.join("fmi2Functions.h").exists(), "no FMI 2.0 headers in {}", dir.display());
-    dir
-}
-
-#[test]
-fn c_header_matches_the_official_fmi2_headers() {
-    let tmp = tempfile::tempdir().unwrap();
-    let header = tmp.path().join("fmi2_export.h");
+/// The C header of the export layer's entry points, written by cbindgen from
+/// `fmi2-export/src/exports.rs` into `header`; returns its text.
+fn generated_header(header: &Path) -> String {
     let config = cbindgen::Config {
         language: cbindgen::Language::C,
         no_includes: true,
@@ -129,8 +112,52 @@ fn c_header_matches_the_official_fmi2_headers() {
         .with_src(workspace_root().join("fmi2-export/src/exports.rs"))
         .generate()
         .expect("cbindgen")
-        .write_to_file(&header);
-    let text = std::fs::read_to_string(&header).unwrap();
+        .write_to_file(header);
+    std::fs::read_to_string(header).unwrap()
+}
+
+/// The function names the generated header declares.
+fn header_functions(text: &str) -> Vec<String> {
+    let mut names: Vec<String> = text
+        .lines()
+        .filter(|l| l.contains(" fmi2") && l.contains('('))
+        .filter_map(|l| l.split('(').next()?.split_whitespace().last().map(|n| n.trim_start_matches('*').to_string()))
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn every_product_exports_exactly_the_functions_of_the_checked_header() {
+    let tmp = tempfile::tempdir().unwrap();
+    let declared = header_functions(&generated_header(&tmp.path().join("fmi2_export.h")));
+    assert_eq!(declared.len(), 34, "{declared:?}");
+    for (id, lib) in libraries(tmp.path()) {
+        let out = tool("nm", &["-D", "--defined-only"], &lib);
+        let mut exported: Vec<String> =
+            out.lines().filter_map(|l| l.split_whitespace().nth(2)).map(String::from).collect();
+        exported.sort();
+        assert_eq!(exported, declared, "{id}: the exported symbols are not the header's functions");
+    }
+}
+
+#[test]
+fn the_product_list_beside_the_fmus_is_packagings() {
+    let path = fmu_dir().join(packaging::PRODUCT_LIST);
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -p packaging`)", path.display()));
+    assert_eq!(text, packaging::product_list_json(), "{} is stale: run packaging again", path.display());
+    for p in &PRODUCTS {
+        let id = (p.description)().model_identifier().unwrap();
+        assert!(text.contains(&format!("\"{id}\"")), "{id} missing from {}", path.display());
+        assert!(fmu_dir().join(format!("{id}.fmu")).is_file(), "{id}.fmu missing");
+    }
+}
+
+#[test]
+fn c_header_matches_the_official_fmi2_headers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = generated_header(&tmp.path().join("fmi2_export.h"));
     assert_eq!(text.lines().filter(|l| l.contains(" fmi2") && l.contains('(')).count(), 34, "{text}");
     let abi_size = std::mem::size_of::<fmi2_abi::fmi2CallbackFunctions>();
     let check = tmp.path().join("check.c");

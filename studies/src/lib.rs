@@ -65,19 +65,25 @@
 //! | [`tuning`] | Table 3 search spaces, the saturation check, the cost of Eq. 31 |
 //! | [`validation`] | time-domain cross-check of the lobes with the plant and controller cores |
 //! | [`fmu_validation`] | the same check through the plant and controller FMUs in the Rust FMI master |
+//! | [`sd_lobes`] | semi-discretisation lobes ([`delay_stability`]): seed 000 plant by its FMU parameters, seed 002 presets; flip/Hopf |
+//! | [`sd_validation`] | the SD boundary through `MillingPlant.fmu` (time-domain cutting, feed on): decay below, growth above, flip points included |
 
+pub mod cases;
 pub mod closed_loop;
 pub mod decomposed;
 pub mod depth_study;
 mod error;
 pub mod fmu_params;
 pub mod fmu_validation;
+pub mod froh;
 pub mod lobes;
 pub mod loop_frf;
 pub mod main_job;
 pub mod output;
 pub mod pso;
 pub mod scenario;
+pub mod sd_lobes;
+pub mod sd_validation;
 pub mod table8;
 pub mod tuning;
 pub mod validation;

@@ -12,6 +12,13 @@
 //! the run sees them (defaults, SSP bindings, `--set`), resolved with the
 //! plant FMU's own table.
 //!
+//! The job is a [`CaseStudy`] (`crate::cases`): one case per controller × seed, planned into
+//! `OUT/manifest.json`, each finished run kept as `OUT/cases/<case>-sNN.result`; a re-run with
+//! the same settings completes only what is missing, and the same cases can run on other
+//! machines (`chatter run OUT --shard i/n`, Slurm arrays, Dask) before `chatter collect OUT`
+//! writes the table and figures. Collected files hold no timings: they are byte-identical
+//! however the cases were run.
+//!
 //! Per run: RMS of the measured signal over every communication point of
 //! `(t0, T]` (3 million values for 30 s), the spectral peaks near the
 //! tooth-passing and first natural frequencies, a CSV decimated to
@@ -20,8 +27,10 @@
 //! `1 − RMS_c(s)/RMS_ol(s)`, then mean ± sample standard deviation (n − 1).
 
 use crate::StudyError;
+use crate::cases::{self, CaseStudy, Collected, Selection};
 use crate::fmu_params;
 use crate::scenario::{Roles, roles};
+use crate::tuning::mean_std;
 use chatter_control::Structure;
 use fmi_master::csv::CsvWriter;
 use fmi_master::plot::{Envelope, Mark, Panel};
@@ -29,8 +38,8 @@ use fmi_master::spectrum::{Spectrum, single_sided};
 use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
 use model_description::Value;
 use model_kit::Choice;
-use rayon::prelude::*;
-use std::path::PathBuf;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 /// One row of the seed's Table 5: label, RMS mean and std [µm], reduction mean and std [%].
@@ -45,11 +54,13 @@ pub const SEED_TABLE5: [SeedRow; 4] = [
     ("ADRC-FOPID", 1.19, 0.11, Some((68.5, 1.5))),
 ];
 
-/// Configuration of the main job.
-#[derive(Clone, Debug)]
-pub struct MainJobConfig {
-    /// Output directory.
-    pub out: PathBuf,
+/// Everything that defines a main job (the manifest's `spec`).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct MainJobSpec {
+    /// The system file (`None`: `ClosedLoop.ssp` of `fmu_dir`, else packaging's SSD).
+    pub system: Option<PathBuf>,
+    /// Where the FMUs are.
+    pub fmu_dir: PathBuf,
     /// Noise seeds.
     pub seeds: Vec<u32>,
     /// Stop time (None: the system's).
@@ -58,21 +69,52 @@ pub struct MainJobConfig {
     pub step: Option<f64>,
     /// Output interval of the per-run CSV files.
     pub csv_interval: f64,
-    /// (label, controller structure); the first is the reference (open loop).
-    pub cases: Vec<(String, Structure)>,
-    /// Extra overrides for every run.
-    pub overrides: Vec<Override>,
+    /// (label, controller structure item name); the first is the reference (open loop).
+    pub cases: Vec<(String, String)>,
+    /// Extra overrides for every run (`component.variable=value`).
+    pub overrides: Vec<String>,
+}
+
+/// The main job, ready to run cases: the spec with its system opened and parsed.
+pub struct MainJob {
+    spec: MainJobSpec,
+    sys: SystemFile,
+    roles: Roles,
+    cases: Vec<(String, Structure)>,
+    overrides: Vec<Override>,
     /// Echo FMU logs.
     pub echo_fmu_log: bool,
+}
+
+/// One run of the main job (a manifest case).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct MainJobCase {
+    /// Case label (`Open loop`, `PID`, …).
+    pub label: String,
+    /// Controller structure (item name).
+    pub structure: String,
+    /// Noise seed.
+    pub seed: u32,
+    /// Keep the Figure 6/7 data (first seed).
+    pub keep_plot: bool,
+}
+
+/// The result of one run as kept in its case file.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CaseOutput {
+    /// The run.
+    pub run: RunResult,
+    /// Reference frequencies of its plant.
+    pub freqs: RefFreqs,
 }
 
 type Result<T> = std::result::Result<T, StudyError>;
 
 /// Reference frequencies of the plant [Hz]: tooth passing, first natural frequency, sinusoidal disturbance.
-type RefFreqs = (Option<f64>, Option<f64>, Option<f64>);
+pub type RefFreqs = (Option<f64>, Option<f64>, Option<f64>);
 
 /// Result of one run.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunResult {
     /// Case label.
     pub case: String,
@@ -158,36 +200,36 @@ fn reference_frequencies(sys: &SystemFile, roles: &Roles, overrides: &[Override]
 }
 
 fn run_one(
-    sys: &SystemFile,
-    cfg: &MainJobConfig,
-    roles: &Roles,
+    job: &MainJob,
+    out: &Path,
     case: &(String, Structure),
     seed: u32,
     keep_plot: bool,
     progress: Progress,
 ) -> Result<(RunResult, RefFreqs)> {
+    let (sys, roles) = (&job.sys, &job.roles);
     let mut overrides = vec![
         Override::typed(format!("{}.structure", roles.controller), Value::Integer(case.1.index())),
         Override::typed(format!("{}.seed", roles.plant), Value::Integer(seed as i32)),
     ];
-    overrides.extend(cfg.overrides.iter().cloned());
+    overrides.extend(job.overrides.iter().cloned());
     let (tooth, natural, dist) = reference_frequencies(sys, roles, &overrides)?;
     let rc = RunConfig {
-        stop: cfg.stop,
-        step: cfg.step,
+        stop: job.spec.stop,
+        step: job.spec.step,
         overrides,
         record: Some(vec![roles.measured(), roles.command()]),
         output_interval: None,
-        echo_fmu_log: cfg.echo_fmu_log,
+        echo_fmu_log: job.echo_fmu_log,
         ..RunConfig::default()
     };
     let mut sim = Simulation::new(sys, &rc)?;
     let h = sim.step();
-    let csv_every = ((cfg.csv_interval / h).round() as u64).max(1);
+    let csv_every = ((job.spec.csv_interval / h).round() as u64).max(1);
     // Spectrum at ≥ 10 kHz sampling: no aliasing into 0–400 Hz from a plant
     // whose noise is band-limited to 2 kHz.
     let spec_every = ((1e-4 / h).floor() as u64).max(1);
-    let path = cfg.out.join("runs").join(format!("{}_seed{:02}.csv", slug(&case.0), seed));
+    let path = out.join("runs").join(format!("{}_seed{:02}.csv", slug(&case.0), seed));
     let t0 = sim.start_time();
     let t1 = t0 + sim.n_steps() as f64 * h;
     let mut obs = JobObserver {
@@ -225,132 +267,216 @@ fn run_one(
     Ok((RunResult { plot, ..result }, (tooth, natural, dist)))
 }
 
+impl MainJob {
+    /// Open the system of `spec` and check its cases, seeds and overrides.
+    pub fn new(spec: MainJobSpec) -> Result<MainJob> {
+        if spec.cases.is_empty() || spec.seeds.is_empty() {
+            return Err(StudyError::Invalid("the main job needs at least one case and one seed".into()));
+        }
+        let sys = match &spec.system {
+            Some(p) => SystemFile::open(p, Some(&spec.fmu_dir))?,
+            None => crate::scenario::closed_loop_system(&spec.fmu_dir)?,
+        };
+        let roles = roles(&sys)?;
+        let mut cases = Vec::new();
+        for (label, item) in &spec.cases {
+            let structure = model_kit::parse_choice::<Structure>(item)
+                .map_err(|e| StudyError::Invalid(format!("case {label}={item}: {e}")))?;
+            cases.push((label.clone(), structure));
+        }
+        let overrides = spec
+            .overrides
+            .iter()
+            .map(|o| o.parse::<Override>().map_err(|e| StudyError::Invalid(format!("--set {o}: {e}"))))
+            .collect::<Result<_>>()?;
+        Ok(MainJob { spec, sys, roles, cases, overrides, echo_fmu_log: false })
+    }
+
+    /// The opened system.
+    pub fn system(&self) -> &SystemFile {
+        &self.sys
+    }
+}
+
+/// The seed part of a case ID: `-s01`.
+fn case_id(label: &str, seed: u32) -> String {
+    format!("{}-s{seed:02}", slug(label))
+}
+
+impl CaseStudy for MainJob {
+    const KIND: &'static str = "main-job";
+    type Spec = MainJobSpec;
+    type Case = MainJobCase;
+    type Output = CaseOutput;
+
+    fn spec(&self) -> &MainJobSpec {
+        &self.spec
+    }
+
+    fn from_spec(spec: MainJobSpec) -> Result<MainJob> {
+        MainJob::new(spec)
+    }
+
+    fn cases(&self) -> Result<Vec<(String, MainJobCase)>> {
+        let first = self.spec.seeds[0];
+        Ok(self
+            .spec
+            .cases
+            .iter()
+            .flat_map(|(label, structure)| {
+                self.spec.seeds.iter().map(move |&seed| {
+                    let case = MainJobCase {
+                        label: label.clone(),
+                        structure: structure.clone(),
+                        seed,
+                        keep_plot: seed == first,
+                    };
+                    (case_id(label, seed), case)
+                })
+            })
+            .collect())
+    }
+
+    fn run_case(&self, dir: &Path, _id: &str, case: &MainJobCase, say: &(dyn Fn(String) + Sync)) -> Result<CaseOutput> {
+        let structure = self
+            .cases
+            .iter()
+            .find(|(l, _)| l == &case.label)
+            .map(|c| c.1)
+            .ok_or_else(|| StudyError::Invalid(format!("case {}: not among the job's cases", case.label)))?;
+        let runs_dir = dir.join("runs");
+        std::fs::create_dir_all(&runs_dir).map_err(|e| StudyError::io(&runs_dir, e))?;
+        let (run, freqs) =
+            run_one(self, dir, &(case.label.clone(), structure), case.seed, case.keep_plot, Progress::Off)?;
+        say(format!(
+            "{} seed {}: RMS {:.3} µm, {} steps in {:.1} s",
+            run.case,
+            run.seed,
+            run.rms * 1e6,
+            run.steps,
+            run.wall.as_secs_f64()
+        ));
+        Ok(CaseOutput { run, freqs })
+    }
+
+    fn collect(&self, dir: &Path, results: &[(String, MainJobCase, CaseOutput)]) -> Result<Collected> {
+        let runs: Vec<RunResult> = results.iter().map(|(_, _, o)| o.run.clone()).collect();
+        let (mut tooth, mut natural, mut dist) = (None, None, None);
+        for (_, _, o) in results {
+            tooth = tooth.or(o.freqs.0);
+            natural = natural.or(o.freqs.1);
+            dist = dist.or(o.freqs.2);
+        }
+        write_outputs(&self.spec, &self.sys, &self.roles, dir, &runs, (tooth, natural, dist))
+    }
+}
+
 /// What the main job produced.
 pub struct Report {
-    /// Every run.
+    /// Every run (in manifest order).
     pub runs: Vec<RunResult>,
-    /// The comparison table as printed.
+    /// The comparison table as written to `table5.md`.
     pub table_text: String,
+    /// The timing line (runs, steps, µs per step, wall time): printed, not written.
+    pub timing: String,
     /// Files written.
     pub written: Vec<PathBuf>,
+    /// Cases already done before this call (skipped).
+    pub skipped: usize,
     /// Total wall time.
     pub wall: Duration,
 }
 
-use crate::tuning::mean_std;
-
-/// Run the main job.
-pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
+/// Run the main job into `out`: plan (or re-use the same plan), run every case that has no
+/// result yet in parallel, collect. Fails after running the others if a case fails.
+pub fn run(job: &MainJob, out: &Path) -> Result<Report> {
     let began = Instant::now();
-    if cfg.cases.is_empty() || cfg.seeds.is_empty() {
-        return Err(StudyError::Invalid("the main job needs at least one case and one seed".into()));
+    cases::plan(job, out)?;
+    let summary = cases::run::<MainJob>(out, &Selection::All)?;
+    if let Some((id, e)) = summary.failed.first() {
+        return Err(StudyError::Invalid(format!(
+            "{} of the main job's runs failed (first: {id}: {e}); the finished ones are kept in {}",
+            summary.failed.len(),
+            out.join("cases").display()
+        )));
     }
-    let roles = roles(sys)?;
-    let runs_dir = cfg.out.join("runs");
-    std::fs::create_dir_all(&runs_dir).map_err(|e| StudyError::io(&runs_dir, e))?;
-    let jobs: Vec<(usize, u32)> = (0..cfg.cases.len()).flat_map(|c| cfg.seeds.iter().map(move |&s| (c, s))).collect();
-    // Total steps for the shared progress bar (known after loading one run: use the system's settings).
-    let bar = if std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        let b = indicatif::ProgressBar::new(0);
-        b.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {percent:>3}% {human_pos}/{human_len} steps ({per_sec}), ETA {eta}",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        Some(b)
-    } else {
-        None
-    };
-    let first_seed = cfg.seeds[0];
-    let results: Vec<Result<(RunResult, RefFreqs)>> = jobs
-        .par_iter()
-        .map(|&(c, s)| {
-            let progress = match &bar {
-                Some(b) => Progress::Shared(b.clone()),
-                None => Progress::Off,
-            };
-            if let Some(b) = &bar {
-                // Each run adds its own length when it starts.
-                let (span, h) = (
-                    cfg.stop.or(sys.desc.stop_time).unwrap_or(0.0),
-                    cfg.step.or(sys.desc.master.step_size).unwrap_or(1.0),
-                );
-                b.inc_length((span / h).round() as u64);
-            }
-            let r = run_one(sys, cfg, &roles, &cfg.cases[c], s, s == first_seed, progress);
-            if let Ok((run, _)) = &r {
-                let line = format!(
-                    "{} seed {}: RMS {:.3} µm, {} steps in {:.1} s",
-                    run.case,
-                    run.seed,
-                    run.rms * 1e6,
-                    run.steps,
-                    run.wall.as_secs_f64()
-                );
-                match &bar {
-                    Some(b) => b.println(line),
-                    None => eprintln!("{line}"),
-                }
-            }
-            r
+    let (_, cases) = cases::open::<MainJob>(out)?;
+    let collected = cases::collect::<MainJob>(out)?;
+    let runs: Vec<RunResult> = cases
+        .iter()
+        .map(|c| {
+            let bytes = std::fs::read(cases::result_path(out, &c.id)).map_err(|e| StudyError::io(out, e))?;
+            postcard::from_bytes::<CaseOutput>(&bytes)
+                .map(|o| o.run)
+                .map_err(|e| StudyError::Invalid(format!("case {}: {e}", c.id)))
         })
-        .collect();
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
-    let mut runs = Vec::new();
-    let (mut tooth, mut natural, mut dist) = (None, None, None);
-    for r in results {
-        let (run, (t, n, d)) = r?;
-        tooth = tooth.or(t);
-        natural = natural.or(n);
-        dist = dist.or(d);
-        runs.push(run);
-    }
+        .collect::<Result<_>>()?;
+    let total_steps: u64 = runs.iter().map(|r| r.steps).sum();
+    let cpu: f64 = runs.iter().map(|r| r.wall.as_secs_f64()).sum();
+    let timing = format!(
+        "{} runs ({} run now, {} found done), {} steps in all; sum of run times {:.1} s ({:.2} µs per closed-loop step); wall time {:.1} s.",
+        runs.len(),
+        summary.ran.len(),
+        summary.skipped.len(),
+        total_steps,
+        cpu,
+        1e6 * cpu / total_steps.max(1) as f64,
+        began.elapsed().as_secs_f64()
+    );
+    Ok(Report {
+        runs,
+        table_text: collected.text,
+        timing,
+        written: collected.written,
+        skipped: summary.skipped.len(),
+        wall: began.elapsed(),
+    })
+}
+
+/// The summary CSV, `table5.md` and Figures 6–7 from the runs.
+fn write_outputs(
+    spec: &MainJobSpec,
+    sys: &SystemFile,
+    roles: &Roles,
+    out: &Path,
+    runs: &[RunResult],
+    (tooth, natural, dist): RefFreqs,
+) -> Result<Collected> {
+    let first_seed = spec.seeds[0];
     let mut written = Vec::new();
     // Per-run summary.
-    let summary = cfg.out.join("runs_summary.csv");
+    let summary = out.join("runs_summary.csv");
     {
         let mut s = String::from(
-            "\"case\",\"seed\",\"rms_m\",\"max_abs_m\",\"command_rms_N\",\"peak_tooth_m\",\"peak_natural_m\",\"steps\",\"wall_s\"\n",
+            "\"case\",\"seed\",\"rms_m\",\"max_abs_m\",\"command_rms_N\",\"peak_tooth_m\",\"peak_natural_m\",\"steps\"\n",
         );
-        for r in &runs {
+        for r in runs {
             s.push_str(&format!(
-                "\"{}\",{},{:e},{:e},{:e},{:e},{:e},{},{:.3}\n",
-                r.case,
-                r.seed,
-                r.rms,
-                r.max_abs,
-                r.command_rms,
-                r.peak_tooth,
-                r.peak_natural,
-                r.steps,
-                r.wall.as_secs_f64()
+                "\"{}\",{},{:e},{:e},{:e},{:e},{:e},{}\n",
+                r.case, r.seed, r.rms, r.max_abs, r.command_rms, r.peak_tooth, r.peak_natural, r.steps,
             ));
         }
         std::fs::write(&summary, s).map_err(|e| StudyError::io(&summary, e))?;
         written.push(summary);
     }
     // Table.
-    let reference: Vec<&RunResult> = runs.iter().filter(|r| r.case == cfg.cases[0].0).collect();
+    let reference: Vec<&RunResult> = runs.iter().filter(|r| r.case == spec.cases[0].0).collect();
     let mut lines = Vec::new();
     lines.push(format!(
         "Nominal scenario ({}; {} seeds: {}–{}), RMS tip displacement over the run, mean ± sample std:",
         sys.origin,
-        cfg.seeds.len(),
-        cfg.seeds[0],
-        cfg.seeds[cfg.seeds.len() - 1]
+        spec.seeds.len(),
+        spec.seeds[0],
+        spec.seeds[spec.seeds.len() - 1]
     ));
     lines.push(String::new());
     lines.push("| Scenario | RMS [µm] (this run) | Reduction vs open loop (this run) | Seed Table 5 RMS [µm] | Seed reduction | peak @ tooth-passing [µm] | peak @ natural freq. [µm] |".into());
     lines.push("|---|---|---|---|---|---|---|".into());
-    for (label, _) in &cfg.cases {
+    for (label, _) in &spec.cases {
         let rs: Vec<&RunResult> = runs.iter().filter(|r| &r.case == label).collect();
         let rms: Vec<f64> = rs.iter().map(|r| r.rms * 1e6).collect();
         let (m, s) = mean_std(&rms);
-        let red = if label == &cfg.cases[0].0 {
+        let red = if label == &spec.cases[0].0 {
             "—".to_string()
         } else {
             let paired: Vec<f64> = rs
@@ -376,26 +502,15 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
             mean_std(&pn).0
         ));
     }
-    let total_steps: u64 = runs.iter().map(|r| r.steps).sum();
-    let cpu: f64 = runs.iter().map(|r| r.wall.as_secs_f64()).sum();
-    lines.push(String::new());
-    lines.push(format!(
-        "{} runs, {} steps in all; sum of run times {:.1} s ({:.2} µs per closed-loop step); wall time {:.1} s.",
-        runs.len(),
-        total_steps,
-        cpu,
-        1e6 * cpu / total_steps.max(1) as f64,
-        began.elapsed().as_secs_f64()
-    ));
     if let (Some(t), Some(n)) = (tooth, natural) {
         lines.push(format!("Reference frequencies: tooth passing {t:.1} Hz, first natural frequency {n:.1} Hz."));
     }
     let table_text = lines.join("\n");
-    let table = cfg.out.join("table5.md");
+    let table = out.join("table5.md");
     std::fs::write(&table, format!("{table_text}\n")).map_err(|e| StudyError::io(&table, e))?;
     written.push(table);
     // Figures 6 and 7 from the first seed.
-    let firsts: Vec<(&String, &(Envelope, Spectrum))> = cfg
+    let firsts: Vec<(&String, &(Envelope, Spectrum))> = spec
         .cases
         .iter()
         .filter_map(|(label, _)| {
@@ -405,7 +520,7 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
         })
         .collect();
     if !firsts.is_empty() {
-        let fig6 = cfg.out.join("fig6_time_history.png");
+        let fig6 = out.join("fig6_time_history.png");
         let panels: Vec<Panel<'_, Envelope>> =
             firsts.iter().map(|(l, (e, _))| Panel { title: format!("{l} (seed {first_seed})"), data: e }).collect();
         fmi_master::plot::time_histories(
@@ -416,7 +531,7 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
             "x [µm]",
         )?;
         written.push(fig6);
-        let fig7 = cfg.out.join("fig7_spectrum.png");
+        let fig7 = out.join("fig7_spectrum.png");
         let mut marks = Vec::new();
         if let Some(f) = dist {
             marks.push(Mark { freq: f, label: "disturbance".into() });
@@ -440,8 +555,8 @@ pub fn run(sys: &SystemFile, cfg: &MainJobConfig) -> Result<Report> {
         )?;
         written.push(fig7);
     }
-    written.push(cfg.out.join("runs"));
-    Ok(Report { runs, table_text, written, wall: began.elapsed() })
+    written.push(out.join("runs"));
+    Ok(Collected { text: table_text, written })
 }
 
 #[cfg(test)]

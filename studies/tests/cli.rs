@@ -273,3 +273,40 @@ fn depth_study_quick_open_loop_peak_rises_with_depth() {
     assert!(off.windows(2).all(|w| w[1].1 > w[0].1), "open-loop peaks {off:?}\n{stdout}");
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+#[test]
+fn sd_lobes_quick_runs_both_machines() {
+    let d = out_dir("sd-lobes");
+    let stdout = run(&["sd-lobes", "--quick", "--preset", "seed002-6.1", "--out", d.to_str().unwrap()]);
+    assert!(stdout.contains("a_lim min"), "{stdout}");
+    let csv = std::fs::read_to_string(d.join("sd_lobes.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 6, "{csv}");
+    assert!(csv.starts_with("rpm,a_lim_mm,kind,"));
+    // 38000 rpm: exact D-subdivision 1.5735 mm; m = 10 is within 1 %
+    let last: Vec<&str> = csv.lines().last().unwrap().split(',').collect();
+    let a: f64 = last[1].parse().unwrap();
+    assert!((a / 1.5735 - 1.0).abs() < 0.01, "{a}");
+    assert_eq!(last[2], "hopf");
+    // the seed 000 plant by its FMU parameter names: low-immersion down-milling
+    let stdout = run(&[
+        "sd-lobes",
+        "--quick",
+        "--set",
+        "plant.cutting.milling=down",
+        "--set",
+        "plant.cutting.radial_engagement=0.0008",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(stdout.contains("seed plant"), "{stdout}");
+    let csv = std::fs::read_to_string(d.join("sd_lobes.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 6, "{csv}");
+    // a bad parameter name is refused with the FMU's message
+    let out = Command::new(env!("CARGO_BIN_EXE_chatter"))
+        .args(["sd-lobes", "--quick", "--set", "plant.cutting.kt_typo=1", "--out", d.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no parameter or input"));
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -1,22 +1,28 @@
-"""FMPy accepts both product FMUs: validation without problems, simulation with defaults."""
+"""FMPy accepts every product FMU (`product`: each name in packaging's products.json):
+validation without problems, co-simulation only, declared units, one second with defaults.
+The last two tests check what the plant and the controller do."""
 import numpy as np
 import pytest
 from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 
-from conftest import fmu_path
+from conftest import fmu_path, products
 
 
-@pytest.mark.parametrize("name", ["MillingPlant", "ChatterController"])
-def test_fmpy_validate_reports_no_problems(name):
-    problems = validate_fmu(str(fmu_path(name)))
+def test_the_product_list_names_the_shipped_fmus():
+    names = products()
+    assert len(set(names)) == len(names), names
+    assert {"MillingPlant", "ChatterController"} <= set(names)
+
+
+def test_fmpy_validate_reports_no_problems(product):
+    problems = validate_fmu(str(fmu_path(product)))
     assert problems == [], "\n".join(problems)
 
 
-@pytest.mark.parametrize("name", ["MillingPlant", "ChatterController"])
-def test_model_description_is_co_simulation_with_units(name):
-    md = read_model_description(str(fmu_path(name)))
-    assert md.coSimulation is not None and md.coSimulation.modelIdentifier == name
+def test_model_description_is_co_simulation_with_units(product):
+    md = read_model_description(str(fmu_path(product)))
+    assert md.coSimulation is not None and md.coSimulation.modelIdentifier == product
     assert md.modelExchange is None
     units = {u.name for u in md.unitDefinitions}
     assert units, "UnitDefinitions must declare the SI units used"
@@ -25,13 +31,21 @@ def test_model_description_is_co_simulation_with_units(name):
             assert v.unit in units, f"{v.name}: unit {v.unit} not declared"
 
 
-def test_plant_simulates_one_second_with_defaults(plant_fmu):
-    result = simulate_fmu(str(plant_fmu), stop_time=1.0, output_interval=1e-4, fmi_type="CoSimulation")
+def test_simulates_one_second_with_defaults_to_finite_outputs(product):
+    path = str(fmu_path(product))
+    result = simulate_fmu(path, stop_time=1.0, output_interval=1e-3, fmi_type="CoSimulation")
     assert result["time"][-1] == pytest.approx(1.0)
-    md = read_model_description(str(plant_fmu))
-    outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
+    md = read_model_description(path)
+    outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type in ("Real", "Integer")]
+    assert outputs, f"{product} has no Real or Integer output"
     for name in outputs:
         assert np.all(np.isfinite(result[name])), name
+
+
+def test_plant_simulates_one_second_with_defaults(plant_fmu):
+    result = simulate_fmu(str(plant_fmu), stop_time=1.0, output_interval=1e-4, fmi_type="CoSimulation")
+    md = read_model_description(str(plant_fmu))
+    outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
     # the default scenario cuts and is disturbed: the tip moves
     displacement = [n for n in outputs if n in ("x", "tip.x", "workpiece.x", "displacement")]
     assert displacement, f"no tip displacement among outputs {outputs}"

@@ -22,6 +22,7 @@ const ALLOWED: &[(&str, &[&str])] = &[
     ("master", &["abi", "schema"]),
     ("packaging", &["adapter", "export", "schema", "core", "kit"]),
     ("studies", &["master", "packaging", "adapter", "export", "schema", "core", "kit"]),
+    ("python", &["studies", "master", "schema"]),
     ("tests", &["studies", "master", "packaging", "adapter", "export", "abi", "schema", "core", "kit"]),
 ];
 

@@ -218,6 +218,12 @@ fn info(file: &Path) -> Result<()> {
         if let Some(d) = &md.default_experiment {
             println!("default experiment: start {:?} stop {:?} step {:?}", d.start_time, d.stop_time, d.step_size);
         }
+        if let Some(w) = md.work_bound() {
+            println!(
+                "work bound: at most {:e} internal steps per fmi2DoStep, a step h costs h / {} + {}",
+                w.max_internal_steps_per_call, w.internal_step_parameter, w.extra_internal_steps_per_call
+            );
+        }
         println!("{:<32} {:<20} {:<11} {:<12} {:>14} unit", "variable", "causality", "variability", "type", "start");
         for v in md.variables() {
             let start = v.start_value().map(|s| format!("{s:?}")).unwrap_or_default();

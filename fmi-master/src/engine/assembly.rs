@@ -10,6 +10,10 @@
 //! 3. Resolve the time grid, the stepping order and sequence, the recorded
 //!    variables, and the parameter assignments — component bindings, then
 //!    system bindings, then `--set` (later wins), each type-checked.
+//!    An FMU that declares a work bound (`WorkBound` vendor annotation of the export layer)
+//!    is refused here if one communication step would cost it more internal steps than it
+//!    accepts per `fmi2DoStep`, with the parameter value this run gives it; FMUs without the
+//!    annotation run as before.
 //! 4. Instantiate with the GUID of the XML, `fmi2SetupExperiment(start,
 //!    stop)`, apply the assignments, enter and exit initialization mode.
 //!    Instances already created are closed if a later step fails.
@@ -304,6 +308,41 @@ fn assignments(
     Ok(out)
 }
 
+/// Refuse a step that costs an FMU more than its declared work bound (see the module docs).
+fn check_work_bounds(fmus: &[Fmu], names: &[String], assignments: &Assignments, step: f64) -> Result<(), SetupError> {
+    for (i, fmu) in fmus.iter().enumerate() {
+        let md = fmu.model_description();
+        let Some(w) = md.work_bound() else { continue };
+        let parameter = &w.internal_step_parameter;
+        // the value this run gives the parameter: the last assignment, else the start value
+        let assigned = assignments[i].iter().rev().find(|(v, _)| &v.name == parameter).map(|(_, x)| x.clone());
+        let internal_step = match assigned.or_else(|| md.variable(parameter).and_then(|v| v.start_value())) {
+            Some(Value::Real(x)) => x,
+            _ => {
+                return Err(SetupError::Invalid(format!(
+                    "component {} ({}): the work bound names {parameter}, which is not a Real parameter with a value",
+                    names[i],
+                    fmu.name()
+                )));
+            }
+        };
+        if w.exceeded(step, internal_step) {
+            return Err(SetupError::StepTooCostly {
+                component: names[i].clone(),
+                fmu: fmu.name().to_string(),
+                step,
+                parameter: parameter.clone(),
+                internal_step,
+                cost: w.cost(step, internal_step),
+                limit: w.max_internal_steps_per_call,
+                // shown to 7 digits: shrunk by 1e-6 so that the rounded figure is still within the bound
+                max_step: w.max_step(internal_step) * (1.0 - 1e-6),
+            });
+        }
+    }
+    Ok(())
+}
+
 fn set_value(inst: &mut Instance, v: &ScalarVariable, value: &Value) -> Result<(), SimError> {
     let vr = [v.value_reference];
     match value {
@@ -335,6 +374,7 @@ pub(crate) fn assemble(sys: &SystemFile, cfg: &RunConfig) -> Result<Assembled, S
     let (order, sequence) = sequence(cfg, desc, &names)?;
     let (probes, record_names) = probes(cfg, &fmus, &names, single, &mut recorded)?;
     let mut assignments = assignments(desc, cfg, &fmus, &names, single)?;
+    check_work_bounds(&fmus, &names, &assignments, timing.step)?;
     // Instantiate and initialize. Instances already created are closed
     // (terminated/freed) by `Components` if a later one fails.
     let mut comps = Components(Vec::with_capacity(fmus.len()));

@@ -1,8 +1,8 @@
 //! [`Fmu`]: opening an `.fmu` — safe extraction into its own temporary
 //! directory ([`fmi_archive`], with its size and ratio limits), parsing the
 //! size-capped `modelDescription.xml`, requiring `<CoSimulation>`, finding
-//! `binaries/linux64/<modelIdentifier>.so` (naming the platforms the archive
-//! has when it is missing), then loading it ([`super::ffi`]) — and
+//! `binaries/<platform>/<modelIdentifier>.<ext>` of the host ([`PLATFORM`],
+//! [`LIBRARY_EXTENSION`]; naming the platforms the archive has when it is missing), then loading it ([`super::ffi`]) — and
 //! instantiating it with the GUID of the XML and a `file:///…/resources` URI.
 
 use crate::error::FmuError;
@@ -15,8 +15,27 @@ use std::ffi::CString;
 use std::path::Path;
 use std::sync::Arc;
 
-/// The platform directory under `binaries/` this build loads.
-pub const PLATFORM: &str = "linux64";
+/// The platform directory under `binaries/` this build loads (FMI 2.0 section 2.3: the
+/// platform of the master's own build).
+pub const PLATFORM: &str = if cfg!(all(target_os = "windows", target_pointer_width = "64")) {
+    "win64"
+} else if cfg!(all(target_os = "windows", target_pointer_width = "32")) {
+    "win32"
+} else if cfg!(all(target_os = "macos", target_pointer_width = "64")) {
+    "darwin64"
+} else if cfg!(all(target_os = "linux", target_pointer_width = "32")) {
+    "linux32"
+} else {
+    "linux64"
+};
+/// The file extension of the binaries of [`PLATFORM`].
+pub const LIBRARY_EXTENSION: &str = if cfg!(target_os = "windows") {
+    "dll"
+} else if cfg!(target_os = "macos") {
+    "dylib"
+} else {
+    "so"
+};
 /// Largest `modelDescription.xml` read [bytes].
 pub const MAX_MODEL_DESCRIPTION_BYTES: u64 = 64 << 20;
 
@@ -100,7 +119,7 @@ impl Fmu {
         let Some(id) = md.model_identifier().map(str::to_owned) else {
             return Err(FmuError::NotCoSimulation { fmu: name });
         };
-        let so = dir.path().join("binaries").join(PLATFORM).join(format!("{id}.so"));
+        let so = dir.path().join("binaries").join(PLATFORM).join(format!("{id}.{LIBRARY_EXTENSION}"));
         if !so.is_file() {
             return Err(FmuError::MissingBinary {
                 fmu: name,

@@ -27,5 +27,5 @@ pub(crate) mod log;
 pub mod process;
 
 pub use ffi::preload_global;
-pub use fmu::{Fmu, MAX_MODEL_DESCRIPTION_BYTES, PLATFORM, file_uri, read_model_description};
+pub use fmu::{Fmu, LIBRARY_EXTENSION, MAX_MODEL_DESCRIPTION_BYTES, PLATFORM, file_uri, read_model_description};
 pub use instance::Instance;

@@ -10,6 +10,8 @@
 //!   set is the identity.
 //! * [`parameter_coverage`]: every leaf field of the serialized parameter struct is written by
 //!   some row, so a field cannot be added to the core without its row.
+//! * [`work_bound_matches_internal_steps`]: the work bound declared in the description is the
+//!   model's own cost of a step.
 
 use super::{Attrs, ChoiceType, Row, TableModel};
 use crate::instance::{Instance, LogLevel, LogSink};
@@ -300,4 +302,36 @@ pub fn corrupted_states_never_panic_or_hang<M: crate::Fmi2Model>(
         }
     }
     (refused, loaded)
+}
+
+/// The work bound declared in `M`'s description (if any) is the model's own
+/// [`Fmi2Model::internal_steps`](crate::Fmi2Model::internal_steps): for the start value of its
+/// internal-step parameter and for a second value inside the parameter's bounds, models built
+/// from those values report the declared `h / p + extra` (to 1e-9 relative) for step sizes from
+/// 1 µs to 1000 s. So a master that refuses a step by the annotation refuses exactly what the
+/// layer refuses. Returns whether a bound is declared.
+pub fn work_bound_matches_internal_steps<M: crate::Fmi2Model>() -> Result<bool, String> {
+    let md = M::description();
+    let Some(w) = md.work_bound() else { return Ok(false) };
+    let v = md.variable(&w.internal_step_parameter).ok_or("the work bound names no variable")?;
+    let Some(Value::Real(p0)) = v.start_value() else {
+        return Err(format!("{}: no Real start value", v.name));
+    };
+    let (lo, hi) = v.range();
+    let p1 = if hi.is_none_or(|hi| 2.0 * p0 <= hi) { 2.0 * p0 } else { (p0 + lo.unwrap_or(0.0)) / 2.0 };
+    for p in [p0, p1] {
+        let mut values = Values::from_description(md);
+        values.set_real(v.value_reference, p);
+        let model = M::initialize(&values, &Environment::default()).map_err(|e| format!("{} = {p}: {e}", v.name))?;
+        for h in [1e-6, 1e-4, 1e-2, 1.0, 1e3] {
+            let (declared, actual) = (w.cost(h, p), model.internal_steps(h));
+            if (declared - actual).abs() > 1e-9 * actual.abs().max(1.0) {
+                return Err(format!(
+                    "{} = {p}, h = {h}: the description declares {declared} internal steps, the model counts {actual}",
+                    v.name
+                ));
+            }
+        }
+    }
+    Ok(true)
 }

@@ -5,22 +5,31 @@
 //! chatter lobes  [--plant seed|ozsoy] [--controllers off,pid,fopid,adrc_fopid] [--pid kp,ki,kd]
 //!                  [--fopid kp,ki,kd,λ,μ] [--adrc kp,ki,kd,λ,μ] [--rpm-min 1000] [--rpm-max 3000]
 //!                  [--points 2001] [--out DIR]
+//! chatter sd-lobes [--plant seed|ozsoy] [--set plant.NAME=VALUE] [--preset seed002-6.1|seed002-6.1-closed|seed002-6.2]
+//!                  [--m 40] [--points 41] [--rpm-min ..] [--rpm-max ..] [--quick] [--out DIR]
 //! chatter tune   [--plant seed|ozsoy] [--structures pid,fopid,adrc_fopid] [--runs 10] [--seed 1]
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
+//! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
+//! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
+//! chatter run DIR [--shard I/N | --index K | --case ID,.. | --slurm-array]
+//! chatter collect DIR
 //! ```
 //!
 //! Gains are force-equivalent SI values (`u` in N, `y` in m); `--adrc` takes the FOPID gains of
 //! the ADRC loop in the same force units (converted by `b0` as in `chatter_control::params`).
 //! Default gains: the seed's Table 2 preset (`--preset tuned`: the PSO-tuned FMU defaults).
 
+mod cases;
 mod check;
 mod common;
 mod decomposed;
 mod depth_study;
+mod froh;
 mod lobes;
 mod main_job;
+mod sd_lobes;
 mod tables;
 mod tune;
 mod validate;
@@ -45,10 +54,14 @@ enum Cmd {
     Decomposed(decomposed::DecomposedArgs),
     /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
     DepthStudy(depth_study::DepthStudyArgs),
+    /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
+    Froh(froh::FrohArgs),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
     Lobes(lobes::LobesArgs),
+    /// Semi-discretisation lobes (time-periodic, multi-DOF, Hopf/flip): seed 000 plant or a seed 002 preset.
+    SdLobes(sd_lobes::SdLobesArgs),
     /// PSO tuning (N runs per structure); best gains as JSON and CSV, Table A1 statistics.
     Tune(tune::TuneArgs),
     /// Table 6 (seed plant, open and closed loop) and the Table 8 uncontrolled row (Ozsoy plant).
@@ -57,6 +70,13 @@ enum Cmd {
     Check(check::CheckArgs),
     /// The lobes against the FMUs in the Rust master: time-domain boundary by bisection vs the lobe.
     Validate(validate::ValidateArgs),
+    /// Plan a study as independent cases into a folder (manifest.json), to run anywhere.
+    #[command(subcommand)]
+    Plan(cases::PlanCmd),
+    /// Run the cases of a planned study that have no result yet (all, a shard, an index, IDs).
+    Run(cases::RunArgs),
+    /// Merge the results of a planned study into its tables and figures.
+    Collect(cases::CollectArgs),
 }
 
 /// Errors print as one line (the error and its causes, `: `-separated) and exit with status 1.
@@ -75,10 +95,15 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::MainJob(a) => main_job::main_job(a),
         Cmd::Decomposed(a) => decomposed::decomposed(a),
         Cmd::DepthStudy(a) => depth_study::depth_study(a),
+        Cmd::Froh(a) => froh::froh(a),
         Cmd::Lobes(a) => lobes::lobes(a),
+        Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
         Cmd::Tune(a) => tune::tune(a),
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),
         Cmd::Validate(a) => validate::validate(a),
+        Cmd::Plan(c) => cases::plan(c),
+        Cmd::Run(a) => cases::run(a),
+        Cmd::Collect(a) => cases::collect(a),
     }
 }

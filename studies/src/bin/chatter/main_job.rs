@@ -4,17 +4,16 @@
 use anyhow::{Context, Result};
 use chatter_control::Structure;
 use clap::Args;
-use fmi_master::{Override, SystemFile};
+use fmi_master::Override;
 use std::path::PathBuf;
-use studies::main_job::{self, MainJobConfig};
-use studies::scenario::closed_loop_system;
+use studies::main_job::{self, MainJob, MainJobSpec};
 
 #[derive(Args)]
 pub struct MainJobArgs {
     /// System to run (default: ClosedLoop.ssp of the FMU directory, else packaging's SSD with its FMUs).
     #[arg(long)]
     pub system: Option<PathBuf>,
-    /// Output directory for CSVs, plots and the table.
+    /// Output directory for CSVs, plots and the table (and the study's manifest and case results).
     #[arg(long, default_value = "results")]
     pub out: PathBuf,
     /// Number of noise seeds per controller.
@@ -47,35 +46,53 @@ pub struct MainJobArgs {
     /// Print the FMUs' log messages as they arrive.
     #[arg(long)]
     pub fmu_log: bool,
+    /// Forget the results of an earlier run in OUT (its manifest and case results) and run
+    /// every case again; without it, a re-run with the same settings completes only what is
+    /// missing, and other settings are refused.
+    #[arg(long)]
+    pub fresh: bool,
+}
+
+impl MainJobArgs {
+    /// The job's spec (absolute paths, so that workers in other folders read the same files).
+    pub fn spec(&self) -> Result<MainJobSpec> {
+        let absolute = |p: &PathBuf| std::path::absolute(p).with_context(|| format!("{}", p.display()));
+        let fmu_dir = absolute(&self.fmu_dir.clone().unwrap_or_else(packaging::fmu_dir))?;
+        let system = self.system.as_ref().map(absolute).transpose()?;
+        let mut cases = Vec::new();
+        for c in &self.cases {
+            let (label, item) = c.split_once('=').with_context(|| format!("--cases {c}: expected LABEL=STRUCTURE"))?;
+            model_kit::parse_choice::<Structure>(item).map_err(|e| anyhow::anyhow!("--cases {c}: {e}"))?;
+            cases.push((label.to_string(), item.to_string()));
+        }
+        for o in &self.set {
+            o.parse::<Override>().with_context(|| format!("--set {o}"))?;
+        }
+        Ok(MainJobSpec {
+            system,
+            fmu_dir,
+            seeds: (self.first_seed..self.first_seed + self.seeds).collect(),
+            stop: self.stop_time,
+            step: self.step,
+            csv_interval: self.csv_interval,
+            cases,
+            overrides: self.set.clone(),
+        })
+    }
 }
 
 pub fn main_job(a: &MainJobArgs) -> Result<()> {
-    let fmu_dir = a.fmu_dir.clone().unwrap_or_else(packaging::fmu_dir);
-    let sys = match &a.system {
-        Some(p) => SystemFile::open(p, Some(&fmu_dir))?,
-        None => closed_loop_system(&fmu_dir)?,
-    };
-    let mut cases = Vec::new();
-    for c in &a.cases {
-        let (label, item) = c.split_once('=').with_context(|| format!("--cases {c}: expected LABEL=STRUCTURE"))?;
-        let structure = model_kit::parse_choice::<Structure>(item).map_err(|e| anyhow::anyhow!("--cases {c}: {e}"))?;
-        cases.push((label.to_string(), structure));
-    }
     if let Some(n) = a.threads {
         rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("configuring the thread pool")?;
     }
-    let cfg = MainJobConfig {
-        out: a.out.clone(),
-        seeds: (a.first_seed..a.first_seed + a.seeds).collect(),
-        stop: a.stop_time,
-        step: a.step,
-        csv_interval: a.csv_interval,
-        cases,
-        overrides: a.set.iter().map(|s| s.parse::<Override>()).collect::<Result<_, _>>()?,
-        echo_fmu_log: a.fmu_log,
-    };
-    let report = main_job::run(&sys, &cfg)?;
+    if a.fresh {
+        studies::cases::forget_results(&a.out)?;
+    }
+    let mut job = MainJob::new(a.spec()?)?;
+    job.echo_fmu_log = a.fmu_log;
+    let report = main_job::run(&job, &a.out)?;
     println!("{}", report.table_text);
+    println!("{}", report.timing);
     println!("wrote {}", report.written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join("\n      "));
     println!("total wall time: {:.1} s on {} threads", report.wall.as_secs_f64(), rayon::current_num_threads());
     Ok(())

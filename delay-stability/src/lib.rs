@@ -1,0 +1,80 @@
+//! Stability of linear time-periodic systems with one delay,
+//!
+//! ```text
+//! ẋ(t) = A(t) x(t) + B(t) x(t − τ),      A(t + T) = A(t),  B(t + T) = B(t),  T = τ,
+//! ```
+//!
+//! by the first-order semi-discretisation of Insperger & Stépán (Int. J. Numer. Meth. Engng 61,
+//! 2004; *Semi-Discretization for Time-Delay Systems*, Springer 2011), with the milling
+//! application (regenerative chatter of a multi-DOF structure under a multi-tooth cutter,
+//! optionally with a delayed linear output-feedback controller) built in.
+//!
+//! * [`PeriodicDde`]: what a system must say: its dimension, period, the constant delayed output
+//!   `y = C_d x` through which the delay acts (`B(t) = B_d(t) C_d`), and its matrices averaged
+//!   over a sub-interval.
+//! * [`sd`]: the discrete map over one period (the monodromy matrix Φ), its spectral radius and
+//!   the classification of the critical multiplier ([`Bifurcation`]: Hopf, flip, fold).
+//! * [`mod@lobes`]: the critical value of a parameter (the axial depth) by a bracketing scan and
+//!   bisection of `ρ(Φ) = 1`, for many speeds in parallel (rayon) with a progress callback.
+//! * [`milling`]: the milling model builder: a linear structure (modes with mass-normalised
+//!   shapes, or any state-space model), the time-periodic directional matrix of the teeth
+//!   (linear or power-law cutting, linearised), and a linear delayed controller.
+//! * [`exact`]: the exact stability boundary of the time-invariant case (D-subdivision), the
+//!   reference for the semi-discretisation.
+//! * [`oscillator`]: the damped delayed Mathieu equation, the classic test problem.
+//!
+//! The crate is a core: plain types, `thiserror` errors, no FMI.
+
+pub mod exact;
+pub mod lobes;
+pub mod milling;
+pub mod oscillator;
+pub mod presets;
+pub mod quadrature;
+pub mod sd;
+
+pub use lobes::{BisectionOptions, Critical, LobePoint, critical_value, lobes};
+pub use sd::{Bifurcation, Multiplier, monodromy, monodromy_dense};
+
+use nalgebra::DMatrix;
+
+/// Errors of the stability computations.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum StabilityError {
+    /// A parameter is out of its range; the message says which.
+    #[error("invalid parameter: {0}")]
+    Invalid(String),
+    /// The eigenvalue iteration did not converge.
+    #[error("the eigenvalues of the {dim}×{dim} monodromy matrix did not converge")]
+    Eigen {
+        /// Dimension of the matrix.
+        dim: usize,
+    },
+    /// The system is already unstable at the lower end of the parameter range.
+    #[error("unstable at the lower end of the bracket (parameter {value}, spectral radius {rho})")]
+    UnstableAtStart {
+        /// The parameter value.
+        value: f64,
+        /// The spectral radius there.
+        rho: f64,
+    },
+}
+
+/// A linear `T`-periodic system with one delay `τ = T` whose delayed term acts through a
+/// constant output: `ẋ = A(t) x + B_d(t) C_d x(t − τ)`.
+///
+/// Writing the delay through `y = C_d x` (r outputs) lets the semi-discretisation keep only the
+/// last `m` outputs instead of `m` full states: the monodromy matrix has dimension `n + r m`
+/// instead of `n (m + 1)` and the same nonzero eigenvalues (tested against [`monodromy_dense`]).
+/// A system without such structure uses `C_d = I`.
+pub trait PeriodicDde {
+    /// State dimension n.
+    fn dim(&self) -> usize;
+    /// Period T = delay τ \[s\].
+    fn period(&self) -> f64;
+    /// The constant delayed output `C_d` (r × n).
+    fn delayed_output(&self) -> DMatrix<f64>;
+    /// `A(t)` and `B_d(t)` averaged over `[t0, t1] ⊂ [0, T]`: `(1/(t1−t0)) ∫ A dt` (n × n) and
+    /// `(1/(t1−t0)) ∫ B_d dt` (n × r).
+    fn averaged(&self, t0: f64, t1: f64) -> (DMatrix<f64>, DMatrix<f64>);
+}

@@ -1,0 +1,229 @@
+//! # The platforms of the FMUs' binaries, and how each is built
+//!
+//! One FMU (one `modelDescription.xml`, one GUID) carries a binary per platform under
+//! `binaries/<platform>/`. Packaging builds every platform whose toolchain is on this machine
+//! with the `fmu-release` profile (release code, no debug info):
+//!
+//! | FMI folder | Rust target | built by | needs |
+//! |---|---|---|---|
+//! | `linux64` | `x86_64-unknown-linux-gnu.2.17` | `cargo zigbuild` | `cargo-zigbuild` + `ziglang` (PyPI) |
+//! | `linux64` (fallback) | the host | `cargo build` | — (binary needs this machine's glibc) |
+//! | `win64` | `x86_64-pc-windows-gnu` | `cargo build` | `rustup target add x86_64-pc-windows-gnu`, `x86_64-w64-mingw32-gcc` (Debian `gcc-mingw-w64-x86-64`) |
+//!
+//! The portable linux64 build links against glibc 2.17's symbol versions (zig ships the
+//! version scripts), so the binary loads on every distribution from RHEL/CentOS 7 on; the
+//! fallback build needs the build machine's glibc and packaging says so. A platform whose
+//! toolchain is missing is skipped with the reason printed, unless `FMU_PLATFORMS` names it:
+//! `FMU_PLATFORMS=linux64-portable,win64` (the README test command sets it) makes a missing
+//! toolchain an error instead of a quieter FMU.
+
+use anyhow::{Context, Result, bail};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The rustc target of the portable linux64 build (glibc 2.17 symbol versions, by zig).
+pub const LINUX_PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
+/// The rustc target of the win64 build.
+pub const WINDOWS_TARGET: &str = "x86_64-pc-windows-gnu";
+/// The cargo profile of the FMU binaries (see the workspace `Cargo.toml`).
+pub const PROFILE: &str = "fmu-release";
+
+/// How one platform's binaries were built.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Build {
+    /// linux64 against glibc 2.17 with `cargo zigbuild`.
+    LinuxPortable,
+    /// linux64 for this machine's glibc only (no `cargo-zigbuild`).
+    LinuxHost,
+    /// win64 with mingw-w64.
+    Windows,
+}
+
+impl Build {
+    /// The FMI platform folder under `binaries/`.
+    pub fn folder(&self) -> &'static str {
+        match self {
+            Build::LinuxPortable | Build::LinuxHost => "linux64",
+            Build::Windows => "win64",
+        }
+    }
+
+    /// The name `FMU_PLATFORMS` uses for this build.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Build::LinuxPortable => "linux64-portable",
+            Build::LinuxHost => "linux64",
+            Build::Windows => "win64",
+        }
+    }
+
+    /// The file name of the binary of `identifier` on this platform.
+    pub fn file_name(&self, identifier: &str) -> String {
+        match self {
+            Build::LinuxPortable | Build::LinuxHost => format!("{identifier}.so"),
+            Build::Windows => format!("{identifier}.dll"),
+        }
+    }
+
+    /// Where cargo writes the library of `identifier` (under `target`).
+    pub fn artifact(&self, target: &Path, identifier: &str) -> PathBuf {
+        match self {
+            Build::LinuxPortable => {
+                target.join("x86_64-unknown-linux-gnu").join(PROFILE).join(format!("lib{identifier}.so"))
+            }
+            Build::LinuxHost => target.join(PROFILE).join(format!("lib{identifier}.so")),
+            Build::Windows => target.join(WINDOWS_TARGET).join(PROFILE).join(format!("{identifier}.dll")),
+        }
+    }
+}
+
+/// What packaging found it can build, and why it skips the rest.
+#[derive(Debug, Default)]
+pub struct Plan {
+    /// The builds to run.
+    pub builds: Vec<Build>,
+    /// Skipped platforms with the reason and the remedy.
+    pub skipped: Vec<(&'static str, String)>,
+}
+
+fn runs(program: &Path, args: &[&str]) -> bool {
+    Command::new(program).args(args).output().map(|o| o.status.success()).unwrap_or(false)
+}
+
+/// `name` on `PATH`, or in the workspace's `.venv/bin` (where the test command installs the
+/// PyPI tools).
+pub fn find_tool(name: &str, venv: &Path) -> Option<PathBuf> {
+    let in_venv = venv.join("bin").join(name);
+    if in_venv.is_file() {
+        return Some(in_venv);
+    }
+    std::env::var_os("PATH")
+        .into_iter()
+        .flat_map(|p| std::env::split_paths(&p).collect::<Vec<_>>())
+        .map(|d| d.join(name))
+        .find(|p| p.is_file())
+}
+
+fn rust_target_installed(rustc: &str, target: &str) -> bool {
+    let out = Command::new(rustc).args(["--print", "target-libdir", "--target", target]).output();
+    match out {
+        Ok(o) if o.status.success() => Path::new(String::from_utf8_lossy(&o.stdout).trim()).is_dir(),
+        _ => false,
+    }
+}
+
+/// The builds this machine can do; `FMU_PLATFORMS` (comma-separated build names) lists the ones
+/// that must not be skipped.
+pub fn plan(venv: &Path) -> Result<Plan> {
+    let required: Vec<String> = std::env::var("FMU_PLATFORMS")
+        .unwrap_or_default()
+        .split(',')
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .collect();
+    for r in &required {
+        if !["linux64-portable", "linux64", "win64"].contains(&r.as_str()) {
+            bail!("FMU_PLATFORMS: unknown platform {r:?} (known: linux64-portable, linux64, win64)");
+        }
+    }
+    let mut plan = Plan::default();
+    let zigbuild = find_tool("cargo-zigbuild", venv);
+    let zig_ok = zigbuild.as_deref().is_some_and(|z| runs(z, &["--version"]));
+    if zig_ok {
+        plan.builds.push(Build::LinuxPortable);
+    } else {
+        plan.builds.push(Build::LinuxHost);
+        plan.skipped.push((
+            "linux64-portable",
+            "cargo-zigbuild not found: the linux64 binary needs this machine's glibc \
+             (pip install cargo-zigbuild ziglang for one that loads on glibc >= 2.17)"
+                .into(),
+        ));
+    }
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let mingw = find_tool("x86_64-w64-mingw32-gcc", venv).is_some();
+    let std_ok = rust_target_installed(&rustc, WINDOWS_TARGET);
+    if mingw && std_ok {
+        plan.builds.push(Build::Windows);
+    } else {
+        let mut why = Vec::new();
+        if !std_ok {
+            why.push("rustup target add x86_64-pc-windows-gnu");
+        }
+        if !mingw {
+            why.push("apt install gcc-mingw-w64-x86-64");
+        }
+        plan.skipped.push(("win64", format!("no win64 toolchain ({})", why.join("; "))));
+    }
+    let missing: Vec<String> = plan
+        .skipped
+        .iter()
+        .filter(|(name, _)| required.iter().any(|r| r == name))
+        .map(|(name, why)| format!("{name}: {why}"))
+        .collect();
+    if !missing.is_empty() {
+        bail!("FMU_PLATFORMS requires platforms this machine cannot build: {}", missing.join("; "));
+    }
+    Ok(plan)
+}
+
+/// Run one build of the `packages` (cdylib packages) from `root`.
+pub fn run(build: &Build, root: &Path, venv: &Path, packages: &[&str]) -> Result<()> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut cmd = match build {
+        Build::LinuxPortable => {
+            let zig = find_tool("cargo-zigbuild", venv).context("cargo-zigbuild vanished")?;
+            let mut c = Command::new(zig);
+            c.args(["zigbuild", "--target", LINUX_PORTABLE_TARGET]);
+            // cargo-zigbuild finds zig from the `ziglang` package of the same Python
+            if let Some(bin) = zig_python_dir(venv) {
+                let path = std::env::var_os("PATH").unwrap_or_default();
+                let mut dirs = vec![bin];
+                dirs.extend(std::env::split_paths(&path));
+                c.env("PATH", std::env::join_paths(dirs).context("PATH")?);
+            }
+            c
+        }
+        Build::LinuxHost => {
+            let mut c = Command::new(&cargo);
+            c.arg("build");
+            c
+        }
+        Build::Windows => {
+            let mut c = Command::new(&cargo);
+            c.args(["build", "--target", WINDOWS_TARGET]);
+            c
+        }
+    };
+    cmd.current_dir(root).args(["--profile", PROFILE, "--lib"]);
+    for p in packages {
+        cmd.args(["-p", p]);
+    }
+    let status = cmd.status().with_context(|| format!("running the {} build", build.name()))?;
+    if !status.success() {
+        bail!("the {} build of the FMU cdylibs failed ({status})", build.name());
+    }
+    Ok(())
+}
+
+/// The venv's `bin` folder when it has the `python-zig`/`python` that carries `ziglang`.
+fn zig_python_dir(venv: &Path) -> Option<PathBuf> {
+    let bin = venv.join("bin");
+    bin.join("python").is_file().then_some(bin)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_names_and_folders_follow_the_fmi_standard() {
+        assert_eq!(Build::LinuxPortable.file_name("A"), "A.so");
+        assert_eq!(Build::Windows.file_name("A"), "A.dll");
+        assert_eq!(Build::LinuxHost.folder(), "linux64");
+        assert_eq!(Build::Windows.folder(), "win64");
+        let t = Path::new("/t");
+        assert_eq!(Build::Windows.artifact(t, "A"), Path::new("/t/x86_64-pc-windows-gnu/fmu-release/A.dll"));
+        assert_eq!(Build::LinuxPortable.artifact(t, "A"), Path::new("/t/x86_64-unknown-linux-gnu/fmu-release/libA.so"));
+    }
+}

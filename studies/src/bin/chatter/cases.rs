@@ -1,0 +1,100 @@
+//! `chatter plan | run | collect`: a study as independent cases, for running anywhere
+//! (shards, Slurm array jobs, Dask tasks); see `studies::cases`.
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use std::path::{Path, PathBuf};
+use studies::cases::{self, CaseStudy, Selection};
+use studies::main_job::MainJob;
+
+#[derive(Subcommand)]
+pub enum PlanCmd {
+    /// The main job (Table 5): one case per controller × noise seed; `--out` is the study folder.
+    MainJob(crate::main_job::MainJobArgs),
+}
+
+#[derive(Args)]
+pub struct RunArgs {
+    /// The study folder (with manifest.json, from `chatter plan`).
+    pub dir: PathBuf,
+    /// Run shard I of N (cases k with k mod N = I − 1).
+    #[arg(long, conflicts_with_all = ["index", "case", "slurm_array"])]
+    pub shard: Option<String>,
+    /// Run the case at this 0-based position of the manifest.
+    #[arg(long, conflicts_with_all = ["case", "slurm_array"])]
+    pub index: Option<usize>,
+    /// Run the cases with these IDs (comma-separated).
+    #[arg(long, value_delimiter = ',', conflicts_with = "slurm_array")]
+    pub case: Vec<String>,
+    /// Run the case at position $SLURM_ARRAY_TASK_ID (a Slurm array job; see studies/slurm/).
+    #[arg(long)]
+    pub slurm_array: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+#[derive(Args)]
+pub struct CollectArgs {
+    /// The study folder.
+    pub dir: PathBuf,
+}
+
+pub fn plan(cmd: &PlanCmd) -> Result<()> {
+    match cmd {
+        PlanCmd::MainJob(a) => {
+            let job = MainJob::new(a.spec()?)?;
+            let n = cases::plan(&job, &a.out)?;
+            println!("planned {n} cases of {} in {}", MainJob::KIND, a.out.display());
+        }
+    }
+    Ok(())
+}
+
+fn selection(a: &RunArgs) -> Result<Selection> {
+    Ok(if let Some(s) = &a.shard {
+        s.parse()?
+    } else if let Some(k) = a.index {
+        Selection::Index(k)
+    } else if !a.case.is_empty() {
+        Selection::Ids(a.case.clone())
+    } else if a.slurm_array {
+        let v = std::env::var("SLURM_ARRAY_TASK_ID").context("--slurm-array: SLURM_ARRAY_TASK_ID is not set")?;
+        Selection::Index(v.trim().parse().with_context(|| format!("SLURM_ARRAY_TASK_ID={v:?}"))?)
+    } else {
+        Selection::All
+    })
+}
+
+fn run_as<S: CaseStudy>(dir: &Path, sel: &Selection) -> Result<()> {
+    let s = cases::run::<S>(dir, sel)?;
+    println!("{} cases run, {} already done, {} failed", s.ran.len(), s.skipped.len(), s.failed.len());
+    if let Some((id, e)) = s.failed.first() {
+        bail!("{} cases failed (first: {id}: {e}); the finished ones are kept", s.failed.len());
+    }
+    Ok(())
+}
+
+pub fn run(a: &RunArgs) -> Result<()> {
+    if let Some(n) = a.threads {
+        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("configuring the thread pool")?;
+    }
+    let sel = selection(a)?;
+    match cases::kind(&a.dir)?.as_str() {
+        MainJob::KIND => run_as::<MainJob>(&a.dir, &sel),
+        other => bail!("{}: unknown study {other:?}", a.dir.display()),
+    }
+}
+
+pub fn collect(a: &CollectArgs) -> Result<()> {
+    let collected = match cases::kind(&a.dir)?.as_str() {
+        MainJob::KIND => cases::collect::<MainJob>(&a.dir)?,
+        other => bail!("{}: unknown study {other:?}", a.dir.display()),
+    };
+    println!("{}", collected.text);
+    println!(
+        "wrote {}",
+        collected.written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join("\n      ")
+    );
+    Ok(())
+}
