@@ -23,8 +23,10 @@
 //! | [`history`] | angle-indexed displacement history for the regenerative delay |
 //! | [`noise`] | band-limited Gaussian noise on the fixed grid |
 
-pub mod history;
-pub mod noise;
+/// The band-limited noise lives in `machine-structure` (shared with the structure FMU).
+pub use machine_structure::noise;
+/// The angle-indexed history lives in `milling-process` (shared with the process FMU).
+pub use milling_process::history;
 pub mod params;
 pub mod plant;
 

@@ -37,6 +37,14 @@ pub use platforms::Build;
 /// `ClosedLoopTable2.ssp`), and the studies' scenario when no `.ssp` is at hand.
 pub const CLOSED_LOOP_SSD: &str = include_str!("../scenarios/ClosedLoop.ssd");
 
+/// Seed 000's plant decomposed into process + structure + actuator, with the controller
+/// (`packaging/scenarios/DecomposedPlant.ssd`, shipped as `DecomposedPlant.ssp`).
+pub const DECOMPOSED_PLANT_SSD: &str = include_str!("../scenarios/DecomposedPlant.ssd");
+
+/// The FMUs of [`DECOMPOSED_PLANT_SSD`].
+pub const DECOMPOSED_PLANT_FMUS: [&str; 4] =
+    ["MillingProcess.fmu", "ModalStructure.fmu", "InertialActuator.fmu", "ChatterController.fmu"];
+
 /// Seed 004's closed loop (MillingForcePlant + FrohMracController),
 /// `packaging/scenarios/ForceControl.ssd`: the `SystemStructure.ssd` of `ForceControl.ssp`.
 pub const FORCE_CONTROL_SSD: &str = include_str!("../scenarios/ForceControl.ssd");
@@ -54,7 +62,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 4] = [
+pub const PRODUCTS: [Product; 7] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -66,6 +74,24 @@ pub const PRODUCTS: [Product; 4] = [
         dir: "fmu-controller/cdylib",
         description: fmu_controller::ChatterController::description,
         documentation: fmu_controller::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-process-cdylib",
+        dir: "fmu-process/cdylib",
+        description: fmu_process::MillingProcess::description,
+        documentation: fmu_process::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-structure-cdylib",
+        dir: "fmu-structure/cdylib",
+        description: fmu_structure::ModalStructure::description,
+        documentation: fmu_structure::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-actuator-cdylib",
+        dir: "fmu-actuator/cdylib",
+        description: fmu_actuator::InertialActuator::description,
+        documentation: fmu_actuator::DOCUMENTATION,
     },
     Product {
         package: "fmu-force-plant-cdylib",
@@ -252,6 +278,9 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     let ssp = dir.join("ClosedLoopTable2.ssp");
     ssp::write_ssp_archive(&ssp, &table2_ssd()?, &refs)?;
     written.push(ssp);
+    let ssp = dir.join("DecomposedPlant.ssp");
+    ssp::write_ssp_archive(&ssp, DECOMPOSED_PLANT_SSD, &in_ssd(DECOMPOSED_PLANT_SSD))?;
+    written.push(ssp);
     Ok(written)
 }
 
@@ -296,6 +325,26 @@ pub fn table2_ssd() -> Result<String> {
 #[cfg(test)]
 mod tests {
     use ssp::{ConnectorKind, SystemDescription};
+
+    /// The decomposed plant's SSD is canonical, names only shipped FMUs, and connects every
+    /// connection end to a declared connector of the right kind.
+    #[test]
+    fn the_embedded_decomposed_plant_is_canonical_and_complete() {
+        let d = SystemDescription::from_xml(crate::DECOMPOSED_PLANT_SSD, "DecomposedPlant.ssd", None).unwrap();
+        assert_eq!(d.to_xml().unwrap(), crate::DECOMPOSED_PLANT_SSD, "DecomposedPlant.ssd is not canonical");
+        assert_eq!(d.components.len(), 4);
+        for c in &d.components {
+            let file = c.source.strip_prefix("resources/").unwrap();
+            assert!(crate::DECOMPOSED_PLANT_FMUS.contains(&file), "{file}");
+        }
+        assert_eq!(d.connections.len(), 8);
+        for c in &d.connections {
+            let s = d.component(c.start_element.as_deref().unwrap()).unwrap();
+            let e = d.component(c.end_element.as_deref().unwrap()).unwrap();
+            assert!(s.connectors.iter().any(|x| x.name == c.start_connector && x.kind == ConnectorKind::Output));
+            assert!(e.connectors.iter().any(|x| x.name == c.end_connector && x.kind == ConnectorKind::Input));
+        }
+    }
 
     /// The embedded SSD is in the writer's canonical form; also writes
     /// `target/ssd-test/ClosedLoop.ssd` for `tests/python/test_ssd_schema.py`.

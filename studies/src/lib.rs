@@ -70,6 +70,7 @@
 
 pub mod cases;
 pub mod closed_loop;
+pub mod decomposed;
 pub mod depth_study;
 mod error;
 pub mod fmu_params;

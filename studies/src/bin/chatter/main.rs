@@ -24,6 +24,7 @@
 mod cases;
 mod check;
 mod common;
+mod decomposed;
 mod depth_study;
 mod froh;
 mod lobes;
@@ -49,6 +50,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
+    /// Seed 000's plant as process + structure + actuator FMUs vs the monolithic plant (open-loop RMS).
+    Decomposed(decomposed::DecomposedArgs),
     /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
     DepthStudy(depth_study::DepthStudyArgs),
     /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
@@ -90,6 +93,7 @@ fn main() -> std::process::ExitCode {
 fn run(cli: &Cli) -> Result<()> {
     match &cli.cmd {
         Cmd::MainJob(a) => main_job::main_job(a),
+        Cmd::Decomposed(a) => decomposed::decomposed(a),
         Cmd::DepthStudy(a) => depth_study::depth_study(a),
         Cmd::Froh(a) => froh::froh(a),
         Cmd::Lobes(a) => lobes::lobes(a),
