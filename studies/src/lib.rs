@@ -66,9 +66,11 @@
 //! | [`validation`] | time-domain cross-check of the lobes with the plant and controller cores |
 //! | [`fmu_validation`] | the same check through the plant and controller FMUs in the Rust FMI master |
 
+pub mod batch;
 pub mod closed_loop;
 pub mod depth_study;
 mod error;
+pub mod figures;
 pub mod fmu_params;
 pub mod fmu_validation;
 pub mod lobes;
@@ -76,6 +78,7 @@ pub mod loop_frf;
 pub mod main_job;
 pub mod output;
 pub mod pso;
+pub mod robustness;
 pub mod scenario;
 pub mod table8;
 pub mod tuning;

@@ -20,6 +20,7 @@ mod common;
 mod depth_study;
 mod lobes;
 mod main_job;
+mod robustness;
 mod tables;
 mod tune;
 mod validate;
@@ -42,6 +43,8 @@ struct Cli {
 enum Cmd {
     /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
     DepthStudy(depth_study::DepthStudyArgs),
+    /// Seed 000 Table 7 and Figures 11-13: the robustness sample (19 points x 2 noise seeds), through the FMUs.
+    Robustness(robustness::RobustnessArgs),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
@@ -76,5 +79,6 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),
         Cmd::Validate(a) => validate::validate(a),
+        Cmd::Robustness(a) => robustness::robustness(a),
     }
 }

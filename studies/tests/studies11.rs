@@ -1,0 +1,141 @@
+//! Seed 000 Section 5.6 studies (robustness, sweeps, map): what each study's definition says,
+//! checked through the FMUs (quick variants, seconds each).
+
+use chatter_control::Structure;
+use std::collections::BTreeSet;
+use std::path::PathBuf;
+use std::process::Command;
+use studies::batch::{Windows, run_one};
+use studies::fmu_params::resolve;
+use studies::robustness::{Group, Robustness, core_open_loop_rms, runs};
+use studies::scenario::{closed_loop_system, roles};
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("chatter-s11-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn chatter(args: &[&str]) -> (bool, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_chatter")).args(args).output().expect("run chatter");
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn system() -> fmi_master::SystemFile {
+    packaging::packaged("ClosedLoop.ssp");
+    closed_loop_system(&packaging::fmu_dir()).unwrap()
+}
+
+/// Our reading of the seed's "38-point sample": 19 distinct points × noise seeds 1 and 2 per
+/// controller, and each run's overrides, resolved through the plant FMU's own table, give
+/// exactly the stated parameter set (Table 1 values × the point's factors, Table 5 scenario).
+#[test]
+fn robustness_sample_is_19_points_times_2_seeds_with_the_stated_parameters() {
+    let sys = system();
+    let r = roles(&sys).unwrap();
+    let s = Robustness::default();
+    let all = runs(&sys, &s).unwrap();
+    assert_eq!(all.len(), 4 * 38);
+    let names: BTreeSet<&str> = s.points.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names.len(), 19);
+    for g in [(Group::Plant, 8), (Group::Disturbance, 6), (Group::Speed, 5)] {
+        assert_eq!(s.points.iter().filter(|p| p.group == g.0).count(), g.1, "{:?}", g.0);
+    }
+    let mut seen = BTreeSet::new();
+    for run in &all {
+        let pt = &s.points[run.point];
+        let p = resolve::<fmu_plant::MillingPlant>(&sys, &r.plant, &run.overrides).unwrap();
+        let c = resolve::<fmu_controller::ChatterController>(&sys, &r.controller, &run.overrides).unwrap();
+        assert_eq!(c.params.structure, run.controller);
+        assert_eq!((p.params.clone(), p.inputs), run.plant, "{}", pt.name);
+        // the stated values, independently of Point::plant
+        let (mass, k, kt, noise, rpm) = match pt.name.as_str() {
+            "nominal" | "noise x1" => (30.0, 2.4e7, 760e6, 50.0, 2000.0),
+            "m-15%" => (25.5, 2.4e7, 760e6, 50.0, 2000.0),
+            "m+15%" => (34.5, 2.4e7, 760e6, 50.0, 2000.0),
+            "k-15%" => (30.0, 2.04e7, 760e6, 50.0, 2000.0),
+            "k+15%" => (30.0, 2.76e7, 760e6, 50.0, 2000.0),
+            "Kt-15%" => (30.0, 2.4e7, 646e6, 50.0, 2000.0),
+            "Kt+15%" => (30.0, 2.4e7, 874e6, 50.0, 2000.0),
+            "worst (m+15%, k-15%, Kt+15%)" => (34.5, 2.04e7, 874e6, 50.0, 2000.0),
+            n if n.starts_with("noise x") => (30.0, 2.4e7, 760e6, 50.0 * n[7..].parse::<f64>().unwrap(), 2000.0),
+            n => (30.0, 2.04e7, 760e6, 50.0, n[8..n.len() - 4].parse::<f64>().unwrap()),
+        };
+        let q = &p.params;
+        let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-12;
+        assert!(close(q.workpiece.first.mass, mass) && close(q.workpiece.first.stiffness, k), "{}", pt.name);
+        assert!(close(q.cutting.kt, kt) && close(q.disturbance.noise_rms, noise), "{}", pt.name);
+        assert!(close(p.inputs.spindle_speed_rpm, rpm), "{}", pt.name);
+        assert!(close(q.cutting.axial_depth, 1e-3) && close(p.inputs.feed_per_tooth, 5e-5));
+        assert!(q.disturbance.noise && q.disturbance.drift && q.workpiece.first.damping_ratio == 0.0088);
+        assert!(seen.insert((run.controller.name_str(), run.point, run.seed)), "duplicate run");
+        assert!([1, 2].contains(&run.seed) && q.seed == run.seed as u64);
+    }
+}
+
+trait NameStr {
+    fn name_str(self) -> &'static str;
+}
+impl NameStr for Structure {
+    fn name_str(self) -> &'static str {
+        model_kit::Choice::name(self)
+    }
+}
+
+/// Through the FMUs the open-loop RMS is the plant core's own at three robustness points.
+#[test]
+fn fmu_open_loop_rms_equals_the_plant_core_at_three_points() {
+    let sys = system();
+    let r = roles(&sys).unwrap();
+    let s = Robustness { controllers: vec![Structure::Off], ..Robustness::default() };
+    let all = runs(&sys, &s).unwrap();
+    let w = Windows::rms(1.2, 0.2);
+    for name in ["m+15%", "noise x2", "k-15% @ 2800 rpm"] {
+        let run = all.iter().find(|x| s.points[x.point].name == name && x.seed == 1).unwrap();
+        let fmu = run_one(&sys, &r, run.overrides.clone(), &w).unwrap().rms;
+        let core = core_open_loop_rms(&run.plant, &w).unwrap();
+        assert!((fmu / core - 1.0).abs() < 1e-12, "{name}: FMU {fmu:e} core {core:e}");
+        assert!(fmu > 1e-7, "{name}: {fmu:e}");
+    }
+}
+
+/// The noise-free k −15 % speed sweep (forced response alone) peaks within ±150 rpm of the speed
+/// where tooth passing meets the shifted first mode, 60·f₁/Z = 1969 rpm.
+#[test]
+fn robustness_quick_speed_sweep_peaks_at_the_resonance() {
+    let d = out_dir("rob");
+    let (ok, stdout, err) = chatter(&[
+        "robustness",
+        "--quick",
+        "--controllers",
+        "off",
+        "--groups",
+        "speed",
+        "--quiet",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(!d.join("robustness.csv.incomplete").exists());
+    let csv = std::fs::read_to_string(d.join("robustness.csv")).unwrap();
+    let rows: Vec<(f64, f64)> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            (c[8].parse().unwrap(), c[9].parse().unwrap())
+        })
+        .collect();
+    assert_eq!(rows.len(), 5, "{csv}");
+    let peak = rows.iter().max_by(|a, b| a.1.total_cmp(&b.1)).unwrap().0;
+    let f1 = (2.04e7f64 / 30.0).sqrt() / (2.0 * std::f64::consts::PI);
+    assert!((peak - 60.0 * f1 / 4.0).abs() <= 150.0, "peak at {peak} rpm\n{stdout}");
+    for f in ["robustness.md", "robustness.png"] {
+        assert!(d.join(f).metadata().unwrap().len() > 100, "{f}");
+    }
+    std::fs::remove_dir_all(&d).unwrap();
+}
