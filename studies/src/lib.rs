@@ -80,6 +80,7 @@ pub mod output;
 pub mod pso;
 pub mod robustness;
 pub mod scenario;
+pub mod sweeps;
 pub mod table8;
 pub mod tuning;
 pub mod validation;

@@ -139,3 +139,93 @@ fn robustness_quick_speed_sweep_peaks_at_the_resonance() {
     }
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+fn csv_rows(path: &std::path::Path) -> Vec<Vec<String>> {
+    let csv = std::fs::read_to_string(path).unwrap();
+    csv.lines().skip(1).map(|l| l.split(',').map(str::to_string).collect()).collect()
+}
+
+/// Feed sweep, noise and drift off: the FMU's RMS about the mean equals the harmonic balance
+/// `√(Σ X_k²/2)` of tooth-passing harmonics 1–10 through Φ_cl, within 2 %, open loop and PID.
+#[test]
+fn feed_sweep_quick_matches_the_harmonic_balance() {
+    let d = out_dir("feed");
+    let (ok, stdout, err) = chatter(&[
+        "sweep",
+        "feed",
+        "--quick",
+        "--quiet",
+        "--controllers",
+        "off,pid",
+        "--values",
+        "0.025,0.12",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let rows = csv_rows(&d.join("sweep_feed.csv"));
+    assert_eq!(rows.len(), 4);
+    for r in &rows {
+        let (fmu, hb): (f64, f64) = (r[3].parse().unwrap(), r[4].parse().unwrap());
+        assert!(hb > 0.5 && (fmu / hb - 1.0).abs() < 0.02, "{r:?}\n{stdout}");
+    }
+    assert!(stdout.contains("RMS slope against f_z, off"), "{stdout}");
+    assert!(d.join("sweep_feed.png").metadata().unwrap().len() > 100);
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Engagement sweep: the lobe solver's open-loop minimum equals 2kζ(1 ± ζ)/(K_t |α₀(a_e)|) to
+/// 1e-6 at every a_e (α₀ from the plant core at φ_ex = arccos(1 − a_e/R)).
+#[test]
+fn engagement_sweep_lobe_minimum_is_the_closed_form() {
+    let d = out_dir("eng");
+    let (ok, stdout, err) = chatter(&[
+        "sweep",
+        "engagement",
+        "--quick",
+        "--controllers",
+        "off",
+        "--values",
+        "4,8,14",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let rows = csv_rows(&d.join("sweep_engagement.csv"));
+    assert_eq!(rows.len(), 3);
+    let mut seen = Vec::new();
+    for r in &rows {
+        let (solver, closed): (f64, f64) = (r[6].parse().unwrap(), r[7].parse().unwrap());
+        assert!((solver / closed - 1.0).abs() < 1e-6, "{r:?}\n{stdout}");
+        // independently: α₀ of half immersion (8 mm) gives Table 6's 1.228 mm
+        if r[1] == "8" {
+            assert!((closed - 1.2283).abs() < 1e-3, "{closed}");
+        }
+        seen.push(closed);
+    }
+    assert!(seen[0] > seen[1] && seen[2] > seen[1], "{seen:?}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Bad input: one line, non-zero exit, no CSV.
+#[test]
+fn studies_refuse_bad_input_with_one_line() {
+    let d = out_dir("bad");
+    let out = d.to_str().unwrap();
+    for (args, expect) in [
+        (vec!["sweep", "depth"], "expected feed or engagement"),
+        (vec!["sweep", "feed", "--values", "0.05,-1"], "give positive values"),
+        (vec!["robustness", "--groups", "x"], "expected plant, disturbance or speed"),
+        (vec!["robustness", "--speeds", "0"], "give positive speeds"),
+        (vec!["map", "--depths", "0.5,-1"], "depths must be positive"),
+        (vec!["map", "--rpm", "2000,1000"], "speed range"),
+        (vec!["map", "--controllers", "lqr"], "unknown controller"),
+    ] {
+        let mut all = args.clone();
+        all.extend(["--out", out]);
+        let (ok, _, err) = chatter(&all);
+        assert!(!ok, "{args:?} succeeded");
+        assert!(err.contains(expect) && err.trim().lines().count() == 1, "{args:?}: {err}");
+        assert!(!d.exists(), "{args:?} wrote output");
+    }
+}

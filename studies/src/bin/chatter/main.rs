@@ -21,6 +21,7 @@ mod depth_study;
 mod lobes;
 mod main_job;
 mod robustness;
+mod sweep;
 mod tables;
 mod tune;
 mod validate;
@@ -45,6 +46,8 @@ enum Cmd {
     DepthStudy(depth_study::DepthStudyArgs),
     /// Seed 000 Table 7 and Figures 11-13: the robustness sample (19 points x 2 noise seeds), through the FMUs.
     Robustness(robustness::RobustnessArgs),
+    /// Seed 000 Figure 15: the feed or radial-engagement sweep through the FMUs, with the harmonic-balance and closed-form checks.
+    Sweep(sweep::SweepArgs),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
@@ -80,5 +83,6 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Check(a) => check::check(a),
         Cmd::Validate(a) => validate::validate(a),
         Cmd::Robustness(a) => robustness::robustness(a),
+        Cmd::Sweep(a) => sweep::sweep(a),
     }
 }
