@@ -76,6 +76,7 @@ pub mod fmu_validation;
 pub mod lobes;
 pub mod loop_frf;
 pub mod main_job;
+pub mod map;
 pub mod output;
 pub mod pso;
 pub mod robustness;

@@ -229,3 +229,53 @@ fn studies_refuse_bad_input_with_one_line() {
         assert!(!d.exists(), "{args:?} wrote output");
     }
 }
+
+/// The noise-free open-loop map grows (last-second RMS > 3× the first) exactly where
+/// a_p > b_lim(N) on the lobe solver, one cell of tolerance at the boundary; both sides occur.
+#[test]
+fn map_quick_noise_free_open_loop_grows_exactly_above_the_lobes() {
+    let d = out_dir("map");
+    let (ok, stdout, err) = chatter(&[
+        "map",
+        "--quick",
+        "--quiet",
+        "--controllers",
+        "off",
+        "--depths",
+        "1,2",
+        "--rpm",
+        "1200,2800,400",
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let rows = csv_rows(&d.join("map.csv"));
+    assert_eq!(rows.len(), 10);
+    let (mut grow, mut stable) = (0, 0);
+    for r in &rows {
+        let (depth, growth, b_lim): (f64, f64, f64) =
+            (r[1].parse().unwrap(), r[5].parse().unwrap(), r[7].parse().unwrap());
+        if depth > b_lim {
+            grow += 1;
+        } else {
+            stable += 1;
+        }
+        // away from the boundary (±15 % in depth) the classification must agree exactly
+        if (depth / b_lim - 1.0).abs() > 0.15 {
+            assert_eq!(growth > 3.0, depth > b_lim, "{r:?}\n{stdout}");
+        }
+    }
+    assert!(grow >= 2 && stable >= 2, "both sides of the lobe: {grow} above, {stable} below");
+    let untolerated: usize = stdout
+        .lines()
+        .find(|l| l.starts_with("| off |"))
+        .map(|l| {
+            let c: Vec<&str> = l.split('|').map(str::trim).collect();
+            let (n, tol) = c[5].split_once(" (").unwrap();
+            n.parse::<usize>().unwrap() - tol.split(' ').next().unwrap().parse::<usize>().unwrap()
+        })
+        .unwrap();
+    assert_eq!(untolerated, 0, "{stdout}");
+    assert_eq!(&std::fs::read(d.join("map.png")).unwrap()[1..4], b"PNG");
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -20,6 +20,7 @@ mod common;
 mod depth_study;
 mod lobes;
 mod main_job;
+mod map;
 mod robustness;
 mod sweep;
 mod tables;
@@ -48,6 +49,8 @@ enum Cmd {
     Robustness(robustness::RobustnessArgs),
     /// Seed 000 Figure 15: the feed or radial-engagement sweep through the FMUs, with the harmonic-balance and closed-form checks.
     Sweep(sweep::SweepArgs),
+    /// Seed 000 Figure 16: the speed x depth map (90 cells per controller) through the FMUs, heat maps on one colour scale.
+    Map(map::MapArgs),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
@@ -84,5 +87,6 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Validate(a) => validate::validate(a),
         Cmd::Robustness(a) => robustness::robustness(a),
         Cmd::Sweep(a) => sweep::sweep(a),
+        Cmd::Map(a) => map::map(a),
     }
 }
