@@ -279,3 +279,19 @@ fn map_quick_noise_free_open_loop_grows_exactly_above_the_lobes() {
     assert_eq!(&std::fs::read(d.join("map.png")).unwrap()[1..4], b"PNG");
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// The robust saturation constraint is the union over its noise seeds: the shipped FOPID passes
+/// the seed's single check (noise seed 7) but not every seed of 1..=10.
+#[test]
+fn robust_saturation_constraint_fails_if_any_seed_fails() {
+    use studies::tuning::TuningProblem;
+    let c = chatter_control::ControllerParams::tuned();
+    let c = chatter_control::ControllerParams { structure: Structure::Fopid, ..c };
+    let mut p = TuningProblem::new(milling_plant::PlantParams::default(), Structure::Fopid);
+    let single = p.saturation(&c).unwrap();
+    assert!(!single.exceeded, "{single:?}");
+    p.check_seeds = (1..=10).collect();
+    let robust = p.saturation(&c).unwrap();
+    assert!(robust.exceeded && robust.saturated_samples > 0, "{robust:?}");
+    assert!(p.evaluate(&c).cost > 1e3, "infeasible under the robust constraint");
+}
