@@ -167,11 +167,14 @@ pub fn matrix(s: &MapStudy, cells: &[Cell], c: Structure, f: impl Fn(&Cell) -> f
 /// four neighbours is on the other side of the lobe.
 pub fn disagreements(s: &MapStudy, cells: &[Cell], c: Structure) -> Vec<(usize, usize, bool)> {
     let (n, m) = (s.depths.len(), s.rpm.len());
-    let above = matrix(s, cells, c, |x| if s.depths[x.i] > x.b_lim { 1.0 } else { 0.0 });
+    let mut above = vec![vec![false; m]; n];
+    for x in cells.iter().filter(|x| x.controller == c) {
+        above[x.i][x.j] = s.depths[x.i] > x.b_lim;
+    }
     let mut out = Vec::new();
     for x in cells.iter().filter(|x| x.controller == c) {
         let (i, j) = (x.i, x.j);
-        if (x.growth() > GROWTH) == (above[i][j] == 1.0) {
+        if (x.growth() > GROWTH) == above[i][j] {
             continue;
         }
         let mut nb = Vec::new();

@@ -162,6 +162,11 @@ pub fn lobe_minimum(p: &PlantParams) -> Result<(f64, f64), StudyError> {
     Ok((ex.min.depth, closed))
 }
 
+/// A length \[m\] in mm, rounded to the nm (so 0.12 mm prints as `0.12`).
+pub fn mm(v: f64) -> f64 {
+    (v * 1e9).round() / 1e6
+}
+
 /// Least-squares slope of `y` against `x`.
 pub fn slope(x: &[f64], y: &[f64]) -> f64 {
     let n = x.len() as f64;
@@ -236,7 +241,7 @@ pub fn run(sys: &SystemFile, s: &Sweep) -> Result<Vec<SweepRow>, StudyError> {
             format!(
                 "{},{},{:.6},{:.6},{:.6},{:.6},{:.12e},{:.12e}",
                 r.controller.name(),
-                r.value * 1e3,
+                mm(r.value),
                 r.metrics.rms * 1e6,
                 r.metrics.rms_detrended * 1e6,
                 r.harmonic * 1e6,

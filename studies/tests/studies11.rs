@@ -71,7 +71,7 @@ fn robustness_sample_is_19_points_times_2_seeds_with_the_stated_parameters() {
         assert!(close(q.cutting.kt, kt) && close(q.disturbance.noise_rms, noise), "{}", pt.name);
         assert!(close(p.inputs.spindle_speed_rpm, rpm), "{}", pt.name);
         assert!(close(q.cutting.axial_depth, 1e-3) && close(p.inputs.feed_per_tooth, 5e-5));
-        assert!(q.disturbance.noise && q.disturbance.drift && q.workpiece.first.damping_ratio == 0.0088);
+        assert!(q.disturbance.noise && q.disturbance.drift && close(q.workpiece.first.damping_ratio, 0.0088));
         assert!(seen.insert((run.controller.name_str(), run.point, run.seed)), "duplicate run");
         assert!([1, 2].contains(&run.seed) && q.seed == run.seed as u64);
     }

@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use studies::batch::Windows;
 use studies::fmu_params::overrides_of;
 use studies::scenario::{closed_loop_system, roles};
-use studies::sweeps::{ENGAGEMENTS_MM, FEEDS_MM, Kind, SEED_FEED_SLOPES, Sweep, slope};
+use studies::sweeps::{ENGAGEMENTS_MM, FEEDS_MM, Kind, SEED_FEED_SLOPES, Sweep, mm, slope};
 
 #[derive(Args)]
 pub struct SweepArgs {
@@ -85,7 +85,7 @@ pub fn sweep(a: &SweepArgs) -> Result<()> {
             md,
             "| {} | {} | {:.3} | {:.3} | {:.3} | {:+.2} | {:.1} % |",
             x.controller.name(),
-            x.value * 1e3,
+            mm(x.value),
             x.metrics.rms * 1e6,
             x.metrics.rms_detrended * 1e6,
             x.harmonic * 1e6,
@@ -100,7 +100,7 @@ pub fn sweep(a: &SweepArgs) -> Result<()> {
     let mut curves = Vec::new();
     for &c in &s.controllers {
         let pts: Vec<(f64, f64)> =
-            rows.iter().filter(|x| x.controller == c).map(|x| (x.value * 1e3, x.metrics.rms * 1e6)).collect();
+            rows.iter().filter(|x| x.controller == c).map(|x| (mm(x.value), x.metrics.rms * 1e6)).collect();
         if kind == Kind::Feed && pts.len() > 1 {
             let (fx, fy): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
             let seed = SEED_FEED_SLOPES.iter().find(|(x, _)| *x == c).map_or("–".into(), |(_, v)| format!("{v:.0}"));
