@@ -57,8 +57,9 @@ fn draw_xy(
         .build_cartesian_2d(x0 - pad..x1 + pad, 0.0..y1 * 1.08)?;
     let mut mesh = chart.configure_mesh();
     mesh.x_desc(xlabel).y_desc(ylabel).label_style((FONT, 15));
+    let integer = |v: &f64| format!("{v:.0}");
     if let Some(n) = categories {
-        mesh.x_labels(n + 2);
+        mesh.x_labels(n + 2).x_label_formatter(&integer);
     }
     mesh.draw()?;
     for (i, (name, p)) in curves.iter().enumerate() {
