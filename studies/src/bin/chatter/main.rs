@@ -9,6 +9,9 @@
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
+//! chatter robustness [--preset tuned|table2] [--seeds 1,2] [--stop-time 30] [--groups ..] [--quiet] [--quick]
+//! chatter sweep feed|engagement [--values ..] [--preset ..] [--stop-time 10] [--quiet] [--quick]
+//! chatter map    [--depths ..] [--rpm 1000,2800,200] [--preset ..] [--stop-time 5] [--quiet] [--quick]
 //! ```
 //!
 //! Gains are force-equivalent SI values (`u` in N, `y` in m); `--adrc` takes the FOPID gains of
