@@ -67,23 +67,34 @@
 //! | [`fmu_validation`] | the same check through the plant and controller FMUs in the Rust FMI master |
 //! | [`sd_lobes`] | semi-discretisation lobes ([`delay_stability`]): seed 000 plant by its FMU parameters, seed 002 presets; flip/Hopf |
 //! | [`sd_validation`] | the SD boundary through `MillingPlant.fmu` (time-domain cutting, feed on): decay below, growth above, flip points included |
+//! | [`batch`] | many short FMU runs in parallel: windows, metrics, the streamed crash-safe results CSV, Table 7 statistics |
+//! | [`figures`] | line plots and heat maps on a common colour scale |
+//! | [`robustness`] | seed 000 Table 7: the 19-point × 2-seed sample and its statistics |
+//! | [`sweeps`] | seed 000 Figure 15: feed and engagement sweeps, harmonic balance, closed-form lobe minimum |
+//! | [`map`] | seed 000 Figure 16: the speed × depth map and its growth check against the lobes |
+//! | [`cases`] | a study as independent cases: plan (manifest), run any subset anywhere (shards, Slurm arrays, Dask), collect |
 
+pub mod batch;
 pub mod cases;
 pub mod closed_loop;
 pub mod decomposed;
 pub mod depth_study;
 mod error;
+pub mod figures;
 pub mod fmu_params;
 pub mod fmu_validation;
 pub mod froh;
 pub mod lobes;
 pub mod loop_frf;
 pub mod main_job;
+pub mod map;
 pub mod output;
 pub mod pso;
+pub mod robustness;
 pub mod scenario;
 pub mod sd_lobes;
 pub mod sd_validation;
+pub mod sweeps;
 pub mod table8;
 pub mod tuning;
 pub mod validation;

@@ -238,6 +238,9 @@ pub struct TuningProblem {
     pub check: SaturationCheck,
     /// ADRC-FOPID only: also tune ω_o and b0 ([`OBSERVER_SPACE`]; an extension of the seed).
     pub tune_observer: bool,
+    /// Noise seeds of the robust saturation constraint: a candidate is feasible only if the
+    /// check passes for every one of them (empty: the seed's single check, `check.seed`).
+    pub check_seeds: Vec<u64>,
 }
 
 impl TuningProblem {
@@ -250,6 +253,7 @@ impl TuningProblem {
             speeds: speed_grid(1000.0, 3000.0, 41),
             check: SaturationCheck::default(),
             tune_observer: false,
+            check_seeds: Vec::new(),
         }
     }
 
@@ -286,8 +290,8 @@ impl TuningProblem {
         };
         let cp = problem.min_depth(&self.speeds);
         let b = cp.depth * 1e3;
-        let sat = if ctrl.structure == Structure::Off { None } else { self.check.run(&self.plant, ctrl).ok() };
-        let n = (self.check.duration / ctrl.ts).round().max(1.0);
+        let sat = if ctrl.structure == Structure::Off { None } else { self.saturation(ctrl) };
+        let n = (self.check.duration / ctrl.ts).round().max(1.0) * self.check_seeds.len().max(1) as f64;
         let penalty = match sat {
             Some(s) if !s.exceeded => 0.0,
             None if ctrl.structure == Structure::Off => 0.0,
@@ -297,6 +301,26 @@ impl TuningProblem {
         };
         let b_capped = b.min(DEPTH_CAP_MM);
         CostBreakdown { b_min_mm: b, rpm_at_min: cp.rpm, saturation: sat, cost: -b_capped + penalty }
+    }
+
+    /// The saturation check over [`TuningProblem::check_seeds`] (or `check.seed` alone):
+    /// exceeded if any seed exceeds, saturated samples summed, peak |u| and RMS x the largest.
+    pub fn saturation(&self, ctrl: &ControllerParams) -> Option<SaturationReport> {
+        let seeds = if self.check_seeds.is_empty() { vec![self.check.seed] } else { self.check_seeds.clone() };
+        let mut all: Option<SaturationReport> = None;
+        for seed in seeds {
+            let r = SaturationCheck { seed, ..self.check }.run(&self.plant, ctrl).ok()?;
+            all = Some(match all {
+                None => r,
+                Some(a) => SaturationReport {
+                    exceeded: a.exceeded || r.exceeded,
+                    saturated_samples: a.saturated_samples + r.saturated_samples,
+                    peak_u: a.peak_u.max(r.peak_u),
+                    rms_x: a.rms_x.max(r.rms_x),
+                },
+            });
+        }
+        all
     }
 
     /// Cost at search coordinates `x`.

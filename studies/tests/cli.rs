@@ -28,7 +28,14 @@ fn tables_reproduce_the_uncontrolled_ozsoy_row() {
     let bmax: f64 = cols[7].parse().unwrap();
     assert!((b / 1.24 - 1.0).abs() < 0.03, "b_crit {b}");
     assert!((bmax / 43.94 - 1.0).abs() < 0.03, "b_max {bmax}");
-    for f in ["table6_lobes.csv", "table6_lobes.png", "table8_ozsoy_lobes.csv", "table8_ozsoy_lobes.png"] {
+    for f in [
+        "table6_lobes.csv",
+        "table6_lobes.png",
+        "table8_ozsoy_lobes.csv",
+        "table8_ozsoy_lobes.png",
+        "fig18_ozsoy_lobes.csv",
+        "fig18_ozsoy_lobes.png",
+    ] {
         assert!(d.join(f).metadata().unwrap().len() > 100, "{f}");
     }
     std::fs::remove_dir_all(&d).unwrap();

@@ -17,19 +17,29 @@ pub struct CheckArgs {
     pub controllers: Vec<String>,
     #[command(flatten)]
     pub gains: GainArgs,
-    /// Noise seeds of the saturation check: 1..=seeds.
+    /// Number of noise seeds of the saturation check: first-seed, first-seed + 1, ….
     #[arg(long, default_value_t = 10)]
     pub seeds: u64,
+    /// First noise seed (the tuning's check uses seed 7: give e.g. 101 for seeds not used in tuning).
+    #[arg(long, default_value_t = 1)]
+    pub first_seed: u64,
+    /// Margin: a command above (1 − margin)·u_max counts as saturating.
+    #[arg(long, default_value_t = 0.0)]
+    pub margin: f64,
     /// Duration of the saturation check [s].
     #[arg(long, default_value_t = 0.2)]
     pub duration: f64,
 }
 
 pub fn check(a: &CheckArgs) -> Result<()> {
+    anyhow::ensure!(a.seeds > 0, "--seeds 0: give at least one seed");
+    anyhow::ensure!((0.0..1.0).contains(&a.margin), "--margin {}: must be in [0, 1)", a.margin);
     let plant = plant_by_name(&a.plant)?;
     println!(
-        "| controller | decay (late/early peak) | saturation check passed (seeds 1..={}) | peak u over seeds (N) | max saturated samples |",
-        a.seeds
+        "| controller | decay (late/early peak) | saturation check passed (seeds {}..={}, margin {}) | peak u over seeds (N) | max saturated samples |",
+        a.first_seed,
+        a.first_seed + a.seeds - 1,
+        a.margin
     );
     println!("|---|---|---|---|---|");
     for name in &a.controllers {
@@ -39,8 +49,8 @@ pub fn check(a: &CheckArgs) -> Result<()> {
         }
         let d = loop_frf::closed_loop_decay(&plant, &c, 0.5).map_err(anyhow::Error::msg)?;
         let (mut ok, mut peak, mut worst) = (0, 0.0f64, 0usize);
-        for sd in 1..=a.seeds {
-            let ch = tuning::SaturationCheck { seed: sd, duration: a.duration, ..Default::default() };
+        for sd in a.first_seed..a.first_seed + a.seeds {
+            let ch = tuning::SaturationCheck { seed: sd, duration: a.duration, margin: a.margin, ..Default::default() };
             let r = ch.run(&plant, &c).map_err(anyhow::Error::msg)?;
             ok += usize::from(!r.exceeded);
             peak = peak.max(r.peak_u);

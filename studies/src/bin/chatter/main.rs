@@ -15,6 +15,9 @@
 //! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
 //! chatter run DIR [--shard I/N | --index K | --case ID,.. | --slurm-array]
 //! chatter collect DIR
+//! chatter robustness [--preset tuned|table2] [--seeds 1,2] [--stop-time 30] [--groups ..] [--quiet] [--quick]
+//! chatter sweep feed|engagement [--values ..] [--preset ..] [--stop-time 10] [--quiet] [--quick]
+//! chatter map    [--depths ..] [--rpm 1000,2800,200] [--preset ..] [--stop-time 5] [--quiet] [--quick]
 //! ```
 //!
 //! Gains are force-equivalent SI values (`u` in N, `y` in m); `--adrc` takes the FOPID gains of
@@ -29,7 +32,10 @@ mod depth_study;
 mod froh;
 mod lobes;
 mod main_job;
+mod map;
+mod robustness;
 mod sd_lobes;
+mod sweep;
 mod tables;
 mod tune;
 mod validate;
@@ -56,6 +62,12 @@ enum Cmd {
     DepthStudy(depth_study::DepthStudyArgs),
     /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
     Froh(froh::FrohArgs),
+    /// Seed 000 Table 7 and Figures 11-13: the robustness sample (19 points x 2 noise seeds), through the FMUs.
+    Robustness(robustness::RobustnessArgs),
+    /// Seed 000 Figure 15: the feed or radial-engagement sweep through the FMUs, with the harmonic-balance and closed-form checks.
+    Sweep(sweep::SweepArgs),
+    /// Seed 000 Figure 16: the speed x depth map (90 cells per controller) through the FMUs, heat maps on one colour scale.
+    Map(map::MapArgs),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
@@ -105,5 +117,8 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Plan(c) => cases::plan(c),
         Cmd::Run(a) => cases::run(a),
         Cmd::Collect(a) => cases::collect(a),
+        Cmd::Robustness(a) => robustness::robustness(a),
+        Cmd::Sweep(a) => sweep::sweep(a),
+        Cmd::Map(a) => map::map(a),
     }
 }

@@ -99,6 +99,21 @@ pub fn tables(a: &TablesArgs) -> Result<()> {
     table8_rows(a, &oz, &mut md)?;
     write_csv(&a.out.join("table8_ozsoy_lobes.csv"), &oz_series)?;
     plot_png(&a.out.join("table8_ozsoy_lobes.png"), "Ozsoy benchmark plant, uncontrolled", &oz_series, 1200, 800)?;
+    // Figure 18: the Table 8 lobes our controllers fill, on the uncontrolled one's 500–3000 rpm grid
+    let grid: Vec<f64> = oz_series[0].points.iter().map(|p| p.rpm).collect();
+    let mut fig18 = oz_series.clone();
+    for name in ["pid", "fopid", "adrc_fopid"] {
+        let c = controller(structure_by_name(name)?, &a.gains)?;
+        fig18.push(Series { name: name.into(), points: diagram(&oz, &c, &grid)?.0 });
+    }
+    write_csv(&a.out.join("fig18_ozsoy_lobes.csv"), &fig18)?;
+    plot_png(
+        &a.out.join("fig18_ozsoy_lobes.png"),
+        &format!("Ozsoy benchmark plant, Table 8 lobes (cf. seed Figure 18; --preset {})", a.gains.preset),
+        &fig18,
+        1200,
+        800,
+    )?;
     std::fs::write(a.out.join("tables.md"), &md)?;
     println!("{md}");
     println!("wrote {}", a.out.join("tables.md").display());
