@@ -66,7 +66,7 @@ fn bounded_work_for_any_h(fmu: &Fmu, cb: &fmi2CallbackFunctions) {
     let s = unsafe { (fmu.api.do_step)(c, 0.0, 1e9, 1) };
     let took = started.elapsed();
     assert!(took < Duration::from_secs(2), "{} / DoStep h = 1e9 s: took {took:?}", fmu.id);
-    assert!(matches!(s, fmi2OK | fmi2Error | fmi2Discard), "{} / DoStep h = 1e9 s: {}", fmu.id, status_name(s));
+    assert!(s == fmi2OK || s == fmi2Error || s == fmi2Discard, "{} / DoStep h = 1e9 s: {}", fmu.id, status_name(s));
     if s != fmi2OK {
         assert!(refusal_logged(&name), "{} / DoStep h = 1e9 s refused without a message", fmu.id);
     }
