@@ -1,6 +1,6 @@
 //! The ModalStructure adapter: its table, parameter round trips, refusals and restored states.
 
-use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink};
+use fmi2_export::instance::{Instance, LogLevel, LogSink};
 use fmi2_export::table::checks;
 use fmi2_export::{Environment, Fmi2Model};
 use fmu_structure::ModalStructure;
@@ -15,45 +15,20 @@ fn vr(name: &str) -> u32 {
     ModalStructure::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
 }
 
-fn ready() -> Instance<ModalStructure> {
-    let mut inst = Instance::<ModalStructure>::new(Environment::default(), false, Box::new(Quiet));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.exit_initialization().unwrap();
-    inst
-}
-
 #[test]
 fn the_xml_holds_exactly_the_table() {
     checks::description_matches_table::<ModalStructure>().unwrap();
 }
 
 #[test]
-fn a_non_finite_input_is_refused_with_a_message() {
-    let mut inst = ready();
-    let name = fmu_structure::TABLE.vars.inputs[0].attrs.name;
-    let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(f64::INFINITY)]).unwrap_err();
-    let CallError::Error(m) = e else { panic!("{e:?}") };
-    assert!(m.contains(name), "{m}");
-    inst.do_step(0.0, 1e-5).unwrap();
+fn non_finite_inputs_are_refused_with_a_message() {
+    checks::non_finite_inputs_are_refused::<ModalStructure>(1e-5).unwrap();
 }
 
 #[test]
 fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let mut inst = ready();
-    let name = fmu_structure::TABLE.vars.inputs[0].attrs.name;
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(10.0)]).unwrap();
-    for k in 0..200 {
-        inst.do_step(k as f64 * 1e-5, 1e-5).unwrap();
-    }
-    let bytes = inst.snapshot().serialize().unwrap();
-    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<ModalStructure>(
-        &bytes,
-        0x2545_f491_4f6c_dd1d,
-        1000,
-        ready,
-        1e-5,
-    );
+    let (refused, loaded) =
+        checks::corrupted_states_after_steps::<ModalStructure>(10.0, 200, 1e-5, 0x2545_f491_4f6c_dd1d, 1000);
     println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
     assert!(refused > 0);
 }

@@ -70,16 +70,8 @@ impl Mode {
     }
 }
 
-model_kit::choice! {
-    /// Milling direction.
-    #[derive(Serialize, Deserialize)]
-    pub enum MillingMode ("MillingMode", "milling direction") {
-        /// Up-milling (conventional): the chip starts thin.
-        Up = "up", "up-milling (conventional)";
-        /// Down-milling (climb): the chip starts thick.
-        Down = "down", "down-milling (climb)";
-    }
-}
+/// Milling direction (one type with the process FMU's).
+pub use milling_process::MillingMode;
 
 model_kit::choice! {
     /// Which cutting-force model the plant integrates.
@@ -292,11 +284,7 @@ impl PlantParams {
     /// Engagement window `[φ_st, φ_ex]` [rad].
     pub fn engagement(&self) -> (f64, f64) {
         let c = &self.cutting;
-        let phi_c = (1.0 - c.radial_engagement / c.tool_radius).clamp(-1.0, 1.0).acos();
-        match c.milling {
-            MillingMode::Up => (0.0, phi_c),
-            MillingMode::Down => (PI - phi_c, PI),
-        }
+        c.milling.engagement(c.radial_engagement, c.tool_radius)
     }
 
     /// Tip receptance x/F [m/N] of the enabled workpiece modes at `omega` [rad/s].

@@ -40,6 +40,19 @@ model_kit::choice! {
     }
 }
 
+impl MillingMode {
+    /// Engagement window `[φ_st, φ_ex]` [rad] of a radial engagement `a_e` with a tool of
+    /// radius `r` (angles from the feed-normal direction): `φ_c = acos(1 − a_e/r)`, up-milling
+    /// `[0, φ_c]`, down-milling `[π − φ_c, π]`.
+    pub fn engagement(self, radial_engagement: f64, tool_radius: f64) -> (f64, f64) {
+        let phi_c = (1.0 - radial_engagement / tool_radius).clamp(-1.0, 1.0).acos();
+        match self {
+            MillingMode::Up => (0.0, phi_c),
+            MillingMode::Down => (PI - phi_c, PI),
+        }
+    }
+}
+
 model_kit::choice! {
     /// Cutting-force law of one tooth.
     #[derive(Serialize, Deserialize)]
@@ -190,11 +203,7 @@ impl ProcessParams {
         if self.explicit_angles {
             return (self.entry_angle, self.exit_angle);
         }
-        let phi_c = (1.0 - self.radial_engagement / self.tool_radius).clamp(-1.0, 1.0).acos();
-        match self.milling {
-            MillingMode::Up => (0.0, phi_c),
-            MillingMode::Down => (PI - phi_c, PI),
-        }
+        self.milling.engagement(self.radial_engagement, self.tool_radius)
     }
 
     /// Tooth angles ψ_j [rad] (uniform or given).

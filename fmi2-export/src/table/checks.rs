@@ -12,6 +12,12 @@
 //!   some row, so a field cannot be added to the core without its row.
 //! * [`work_bound_matches_internal_steps`]: the work bound declared in the description is the
 //!   model's own cost of a step.
+//! * [`non_finite_inputs_are_refused`]: every Real input refuses NaN and ±Inf with a message
+//!   naming it, and the instance steps on.
+//! * [`corrupted_states_after_steps`]: [`corrupted_states_never_panic_or_hang`] on a state
+//!   reached by stepping with every Real input at a given value.
+//!
+//! [`ready`] gives an initialized instance to the adapter's own tests.
 
 use super::{Attrs, ChoiceType, Row, TableModel};
 use crate::instance::{Instance, LogLevel, LogSink};
@@ -145,6 +151,66 @@ impl LogSink for Collect {
     fn emit(&mut self, _level: LogLevel, _category: &str, message: &str) {
         self.0.push(message.to_string());
     }
+}
+
+/// An initialized instance of `M` (defaults, no stop time) whose log messages are dropped.
+pub fn ready<M: crate::Fmi2Model>() -> Instance<M> {
+    let mut inst = Instance::<M>::new(Environment::default(), false, Box::new(Collect(Vec::new())));
+    inst.setup_experiment(0.0, None).expect("setup of a fresh instance");
+    inst.enter_initialization().expect("initialization mode of a fresh instance");
+    inst.exit_initialization().expect("initialization with the start values");
+    inst
+}
+
+/// The causality-input Real variables of `M`: (name, value reference).
+fn real_inputs<M: crate::Fmi2Model>() -> Vec<(String, u32)> {
+    M::description()
+        .variables()
+        .iter()
+        .filter(|v| v.causality == Causality::Input && v.scalar_type() == ScalarType::Real)
+        .map(|v| (v.name.clone(), v.value_reference))
+        .collect()
+}
+
+/// Every Real input of `M` refuses NaN, +Inf and −Inf (`fmi2Error` with a message naming the
+/// input) and the instance takes a step of `h` afterwards. Errs when `M` has no Real input.
+pub fn non_finite_inputs_are_refused<M: crate::Fmi2Model>(h: f64) -> Result<(), String> {
+    let inputs = real_inputs::<M>();
+    if inputs.is_empty() {
+        return Err("no Real input to check".into());
+    }
+    for (name, vr) in inputs {
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            let mut inst = ready::<M>();
+            match inst.set("fmi2SetReal", ScalarType::Real, &[vr], &[Value::Real(bad)]) {
+                Err(crate::instance::CallError::Error(m)) if m.contains(name.as_str()) => {}
+                other => return Err(format!("{name} = {bad}: {other:?} (expected fmi2Error naming it)")),
+            }
+            inst.do_step(0.0, h).map_err(|e| format!("a step after refusing {name} = {bad}: {e:?}"))?;
+        }
+    }
+    Ok(())
+}
+
+/// [`corrupted_states_never_panic_or_hang`] on the state reached after `steps` steps of `h`
+/// with every Real input at `input` (so the state holds history, not only start values).
+pub fn corrupted_states_after_steps<M: crate::Fmi2Model>(
+    input: f64,
+    steps: usize,
+    h: f64,
+    seed: u64,
+    tries: usize,
+) -> (usize, usize) {
+    let mut inst = ready::<M>();
+    for (name, vr) in real_inputs::<M>() {
+        inst.set("fmi2SetReal", ScalarType::Real, &[vr], &[Value::Real(input)])
+            .unwrap_or_else(|e| panic!("{name} = {input}: {e:?}"));
+    }
+    for k in 0..steps {
+        inst.do_step(k as f64 * h, h).expect("a step with the inputs held");
+    }
+    let bytes = inst.snapshot().serialize().expect("a serializable state");
+    corrupted_states_never_panic_or_hang::<M>(&bytes, seed, tries, ready::<M>, h)
 }
 
 /// Build the model through the instance API with `sets` applied before initialization.
