@@ -60,8 +60,8 @@ bin=$(cargo test --release -p packaging --test conformance --no-run --message-fo
 for l in sys.stdin:
     m=json.loads(l)
     if m.get("reason")=="compiler-artifact" and m.get("executable") and m["target"]["name"]=="conformance": print(m["executable"])')
-valgrind --quiet --leak-check=full --errors-for-leak-kinds=definite --error-exitcode=1 \
-    "$bin" --test-threads=1 2>&1 | tail -n 5
+valgrind --quiet --suppressions=tests/valgrind.supp --leak-check=full --errors-for-leak-kinds=definite \
+    --error-exitcode=1 "$bin" --test-threads=1 2>&1 | tail -n 5
 echo "valgrind: every product's hostile-call table without definite leaks or memory errors"
 
 step "Python tests (FMPy)"
