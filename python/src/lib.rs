@@ -136,10 +136,7 @@ fn plan_main_job(
 /// The case IDs of the study in `dir`, in manifest order.
 #[pyfunction]
 fn case_ids(dir: PathBuf) -> PyResult<Vec<String>> {
-    match cases::kind(&dir).map_err(err)?.as_str() {
-        "main-job" => Ok(cases::open::<MainJob>(&dir).map_err(err)?.1.into_iter().map(|c| c.id).collect()),
-        other => Err(ChatterError::new_err(format!("{}: unknown study {other:?}", dir.display()))),
-    }
+    Ok(cases::manifest::<MainJob>(&dir).map_err(err)?.cases.into_iter().map(|c| c.id).collect())
 }
 
 /// Run cases of the study in `dir` that have no result (all, `shard="i/n"`, `index=k` or
@@ -160,9 +157,6 @@ fn run_cases(
         (None, None, None) => Selection::All,
         _ => return Err(ChatterError::new_err("give at most one of shard, index, ids")),
     };
-    if cases::kind(&dir).map_err(err)? != "main-job" {
-        return Err(ChatterError::new_err(format!("{}: not a study this package runs", dir.display())));
-    }
     let s =
         py.detach(|| cases::run::<MainJob>(&dir, &sel).map_err(|e| e.to_string())).map_err(ChatterError::new_err)?;
     if let Some((id, e)) = s.failed.first() {

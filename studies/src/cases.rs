@@ -233,8 +233,8 @@ pub fn forget_results(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Read the manifest of `dir` as study `S`.
-pub fn open<S: CaseStudy>(dir: &Path) -> Result<(S, Vec<ManifestCase<S::Case>>)> {
+/// The manifest in `dir`, which must be a study of kind `S`.
+pub fn manifest<S: CaseStudy>(dir: &Path) -> Result<Manifest<S::Spec, S::Case>> {
     let k = kind(dir)?;
     if k != S::KIND {
         return Err(StudyError::Invalid(format!("{}: a {k} study, not {}", dir.display(), S::KIND)));
@@ -243,8 +243,13 @@ pub fn open<S: CaseStudy>(dir: &Path) -> Result<(S, Vec<ManifestCase<S::Case>>)>
     let text = std::fs::read_to_string(&path).map_err(|e| StudyError::io(&path, e))?;
     let m: Manifest<S::Spec, S::Case> =
         serde_json::from_str(&text).map_err(|e| StudyError::Invalid(format!("{}: {e}", path.display())))?;
-    let study = S::from_spec(m.spec)?;
-    Ok((study, m.cases))
+    Ok(m)
+}
+
+/// Read the manifest of `dir` as study `S` and build the study from its spec.
+pub fn open<S: CaseStudy>(dir: &Path) -> Result<(S, Vec<ManifestCase<S::Case>>)> {
+    let m = manifest::<S>(dir)?;
+    Ok((S::from_spec(m.spec)?, m.cases))
 }
 
 fn read_result<O: DeserializeOwned>(path: &Path) -> Option<O> {
@@ -280,6 +285,16 @@ pub struct RunSummary {
 /// Run the `selection` of the study in `dir` (missing results only), in parallel.
 pub fn run<S: CaseStudy>(dir: &Path, selection: &Selection) -> Result<RunSummary> {
     let (study, cases) = open::<S>(dir)?;
+    run_opened(&study, &cases, dir, selection)
+}
+
+/// [`run`] with the study already built from the manifest's spec and the manifest's cases.
+pub fn run_opened<S: CaseStudy>(
+    study: &S,
+    cases: &[ManifestCase<S::Case>],
+    dir: &Path,
+    selection: &Selection,
+) -> Result<RunSummary> {
     let ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
     let picked = selection.positions(&ids)?;
     let mut summary = RunSummary::default();
@@ -325,9 +340,12 @@ pub fn run<S: CaseStudy>(dir: &Path, selection: &Selection) -> Result<RunSummary
     Ok(summary)
 }
 
-/// Read every result of the study in `dir` and let the study write its tables and figures.
-pub fn collect<S: CaseStudy>(dir: &Path) -> Result<Collected> {
-    let (study, cases) = open::<S>(dir)?;
+/// One finished case: its ID, parameters and result.
+pub type CaseResult<S> = (String, <S as CaseStudy>::Case, <S as CaseStudy>::Output);
+
+/// Every case of `cases` with its result, in manifest order; an error names the cases that
+/// have none yet.
+pub fn results<S: CaseStudy>(dir: &Path, cases: Vec<ManifestCase<S::Case>>) -> Result<Vec<CaseResult<S>>> {
     let mut results = Vec::with_capacity(cases.len());
     let mut missing = Vec::new();
     for c in cases {
@@ -347,7 +365,13 @@ pub fn collect<S: CaseStudy>(dir: &Path) -> Result<Collected> {
             dir.display()
         )));
     }
-    study.collect(dir, &results)
+    Ok(results)
+}
+
+/// Read every result of the study in `dir` and let the study write its tables and figures.
+pub fn collect<S: CaseStudy>(dir: &Path) -> Result<Collected> {
+    let (study, cases) = open::<S>(dir)?;
+    study.collect(dir, &results::<S>(dir, cases)?)
 }
 
 #[cfg(test)]

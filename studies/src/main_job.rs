@@ -392,7 +392,9 @@ pub struct Report {
 pub fn run(job: &MainJob, out: &Path) -> Result<Report> {
     let began = Instant::now();
     cases::plan(job, out)?;
-    let summary = cases::run::<MainJob>(out, &Selection::All)?;
+    // the plan holds this job's spec: run and collect with the job as it is (one system open)
+    let manifest = cases::manifest::<MainJob>(out)?.cases;
+    let summary = cases::run_opened(job, &manifest, out, &Selection::All)?;
     if let Some((id, e)) = summary.failed.first() {
         return Err(StudyError::Invalid(format!(
             "{} of the main job's runs failed (first: {id}: {e}); the finished ones are kept in {}",
@@ -400,17 +402,9 @@ pub fn run(job: &MainJob, out: &Path) -> Result<Report> {
             out.join("cases").display()
         )));
     }
-    let (_, cases) = cases::open::<MainJob>(out)?;
-    let collected = cases::collect::<MainJob>(out)?;
-    let runs: Vec<RunResult> = cases
-        .iter()
-        .map(|c| {
-            let bytes = std::fs::read(cases::result_path(out, &c.id)).map_err(|e| StudyError::io(out, e))?;
-            postcard::from_bytes::<CaseOutput>(&bytes)
-                .map(|o| o.run)
-                .map_err(|e| StudyError::Invalid(format!("case {}: {e}", c.id)))
-        })
-        .collect::<Result<_>>()?;
+    let results = cases::results::<MainJob>(out, manifest)?;
+    let collected = job.collect(out, &results)?;
+    let runs: Vec<RunResult> = results.into_iter().map(|(_, _, o)| o.run).collect();
     let total_steps: u64 = runs.iter().map(|r| r.steps).sum();
     let cpu: f64 = runs.iter().map(|r| r.wall.as_secs_f64()).sum();
     let timing = format!(
