@@ -172,6 +172,9 @@ pub enum SetupError {
     /// Connected or assigned types do not agree.
     #[error("type mismatch: {0}")]
     TypeMismatch(String),
+    /// A connection between variables of different units, without a conversion.
+    #[error("unit mismatch: {0}")]
+    Unit(String),
     /// A variable used against its causality (e.g. a connection into an output).
     #[error("{0}")]
     Causality(String),

@@ -145,6 +145,13 @@ impl Clock {
     pub fn now(&self) -> f64 {
         self.base + self.n as f64 * self.h
     }
+    /// The step the model takes for a requested `h`: the current step size when `h` equals it
+    /// within [`approx_eq`] (masters that count time in integers, such as libcosim's
+    /// nanoseconds, pass `t_{n+1} − t_n` in doubles, which wanders by an ulp from step to step),
+    /// so the model integrates exactly the steps the clock counts.
+    fn step_for(&self, h: f64) -> f64 {
+        if self.n > 0 && approx_eq(h, self.h) { self.h } else { h }
+    }
     fn advance(&mut self, h: f64) {
         if self.n > 0 && approx_eq(h, self.h) {
             self.n += 1;
@@ -434,7 +441,16 @@ impl<M: Fmi2Model> Instance<M> {
         let num = match x {
             Value::Real(r) => {
                 if !r.is_finite() {
-                    return Err(CallError::error(format!("{call}: value {r} for \"{}\" is not finite", v.name)));
+                    let msg = format!("{call}: value {r} for \"{}\" is not finite", v.name);
+                    // An input that goes non-finite (a diverging neighbour) is discarded: nothing
+                    // is stored, the instance keeps its previous input and stays usable, and the
+                    // master decides (retry with a valid value, shorter step, or stop). A
+                    // non-finite parameter is a configuration error.
+                    return Err(if v.causality == Causality::Input {
+                        CallError::Discard(format!("{msg}; the input keeps its previous value"))
+                    } else {
+                        CallError::error(msg)
+                    });
                 }
                 Some(*r)
             }
@@ -518,6 +534,7 @@ impl<M: Fmi2Model> Instance<M> {
                 h * MAX_INTERNAL_STEPS_PER_CALL / cost
             )));
         }
+        let h = self.clock.step_for(h);
         let mut log = StepLog { sink: self.sink.as_mut(), info_on, warn_on };
         match model.do_step(&mut self.values, now, h, &mut log) {
             Ok(()) => {

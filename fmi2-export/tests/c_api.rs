@@ -131,8 +131,15 @@ fn unknown_value_reference_and_null_arrays() {
 fn nan_inputs_and_out_of_range_values_are_refused() {
     let cb = callbacks(4);
     let c = ready("nan", &cb);
-    assert_eq!(set_real(c, vr::U, f64::NAN), fmi2Error);
+    // a non-finite input is discarded (nothing stored, the instance stays usable) ...
+    assert_eq!(set_real(c, vr::U, f64::NAN), fmi2Discard);
     assert!(last_error("nan").contains("not finite"));
+    assert_eq!(set_real(c, vr::U, 0.5), fmi2OK);
+    unsafe { api::fmi2FreeInstance(c) };
+    // ... a non-finite parameter is an error
+    let c = instantiate("inf-parameter", &cb);
+    assert_eq!(set_real(c, vr::K, f64::INFINITY), fmi2Error);
+    assert!(last_error("inf-parameter").contains("not finite"));
     unsafe { api::fmi2FreeInstance(c) };
     let c = instantiate("range", &cb);
     assert_eq!(set_real(c, vr::K, -1.0), fmi2Error);
@@ -435,5 +442,32 @@ fn a_step_costing_more_than_the_work_bound_is_an_error_with_the_limit() {
         let m = last_error("huge");
         assert!(m.contains("internal steps") && m.contains("1e7"), "{m}");
         api::fmi2FreeInstance(c);
+    }
+}
+
+/// A master that counts time in integer nanoseconds (libcosim) passes `h_n = t_{n+1} − t_n`
+/// computed in doubles, which wanders by an ulp around the nominal step. The instance treats
+/// such an `h` as its current step, so the model integrates exactly the steps its clock counts
+/// and the results are bitwise those of a master passing the nominal `h` every time.
+#[test]
+fn an_ulp_wandering_step_size_gives_the_nominal_steps_results() {
+    let cb = callbacks(4);
+    let (a, b) = (ready("h-nominal", &cb), ready("h-ns", &cb));
+    let (h, h_ns) = (3e-4, 300_000_i64);
+    let mut wandered = 0;
+    for k in 0..400_i64 {
+        let t_ns = |n: i64| (n * h_ns) as f64 * 1e-9;
+        let h_k = t_ns(k + 1) - t_ns(k);
+        wandered += usize::from(h_k != h);
+        unsafe {
+            assert_eq!(api::fmi2DoStep(a, k as f64 * h, h, 1), fmi2OK);
+            assert_eq!(api::fmi2DoStep(b, t_ns(k), h_k, 1), fmi2OK, "step {k}: h = {h_k:e}");
+        }
+        assert_eq!(get_real(a, vr::X).1.to_bits(), get_real(b, vr::X).1.to_bits(), "step {k}");
+    }
+    assert!(wandered > 10, "the nanosecond steps must differ from the nominal one ({wandered} did)");
+    unsafe {
+        api::fmi2FreeInstance(a);
+        api::fmi2FreeInstance(b);
     }
 }

@@ -327,6 +327,19 @@ impl ModelDescription {
         self.co_simulation.as_ref().map(|c| c.model_identifier.as_str())
     }
 
+    /// What a unit name means in this description: SI base-unit exponents `[kg, m, s, A, K, mol,
+    /// cd, rad]`, factor and offset (`SI value = factor·value + offset`), from its
+    /// `UnitDefinitions` entry if it has a `BaseUnit`, else from the project's unit registry
+    /// ([`units::known_unit`]); `None` when neither defines it.
+    pub fn unit_meaning(&self, unit: &str) -> Option<([i32; 8], f64, f64)> {
+        let defined = self.unit_definitions.iter().flat_map(|d| d.units.iter()).find(|u| u.name == unit);
+        if let Some(b) = defined.and_then(|u| u.base_unit.as_ref()) {
+            let e = [b.kg, b.m, b.s, b.a, b.k, b.mol, b.cd, b.rad].map(|x| x.unwrap_or(0));
+            return Some((e, b.factor.unwrap_or(1.0), b.offset.unwrap_or(0.0)));
+        }
+        units::known_unit(unit).map(|(e, f)| (e, f, 0.0))
+    }
+
     /// Items of an enumeration type: `(name, value)`.
     pub fn enumeration_items(&self, type_name: &str) -> Vec<(String, i32)> {
         self.type_definitions

@@ -183,6 +183,9 @@ fn wire(
         if conn.linear.is_some() && api != Api::Real {
             return Err(SetupError::TypeMismatch(format!("{label}: a linear transformation needs Real variables")));
         }
+        if conn.linear.is_none() {
+            check_units(&label, (se, sv, smd), (ee, ev, emd))?;
+        }
         if !driven.insert((e, ev.value_reference, api as u8)) {
             return Err(SetupError::Invalid(format!(
                 "{label}: {ee}.{} is already driven by another connection",
@@ -194,6 +197,42 @@ fn wire(
         routes.push(Route { src: s, src_slot, dst: e, dst_slot, api, linear: conn.linear });
     }
     Ok(routes)
+}
+
+/// A direct connection passes the number unchanged, so both ends must mean the same unit: the
+/// same name, or names whose definitions (the FMUs' `UnitDefinitions`, else the unit registry)
+/// have the same base-unit exponents, factor and offset. An end without a unit is not checked
+/// (nothing declared to check against). A connection with a `LinearTransformation` converts on
+/// purpose and is not checked either.
+fn check_units(
+    label: &str,
+    (se, sv, smd): (&str, &ScalarVariable, &ModelDescription),
+    (ee, ev, emd): (&str, &ScalarVariable, &ModelDescription),
+) -> Result<(), SetupError> {
+    let (Some(us), Some(ue)) = (sv.unit(), ev.unit()) else { return Ok(()) };
+    if us == ue {
+        return Ok(());
+    }
+    let (ms, me) = (smd.unit_meaning(us), emd.unit_meaning(ue));
+    let hint = match (ms, me) {
+        (Some((xs, fs, os)), Some((xe, fe, oe))) if xs == xe => {
+            let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+            if same(fs, fe) && same(os, oe) {
+                return Ok(());
+            }
+            if os == 0.0 && oe == 0.0 {
+                format!(
+                    " (same dimension: add <ssc:LinearTransformation factor=\"{}\"/> to the connection to convert)",
+                    fs / fe
+                )
+            } else {
+                " (same dimension, different offset: convert with a LinearTransformation)".to_string()
+            }
+        }
+        (Some(_), Some(_)) => " (different physical dimensions)".to_string(),
+        _ => " (a unit without a definition cannot be checked; connect variables with the same unit)".to_string(),
+    };
+    Err(SetupError::Unit(format!("{label}: {se}.{} is in {us} but {ee}.{} is in {ue}{hint}", sv.name, ev.name)))
 }
 
 /// The stepping order and the Gauss–Seidel sequence (component indices).
@@ -397,4 +436,52 @@ pub(crate) fn assemble(sys: &SystemFile, cfg: &RunConfig) -> Result<Assembled, S
         c.inst.exit_initialization_mode()?;
     }
     Ok(Assembled { comps, routes, order, sequence, timing, probes, record_names })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_units;
+    use model_description::{Causality, ModelBuilder, ModelDescription, ScalarVariable, Variability};
+
+    const M: [i32; 8] = [0, 1, 0, 0, 0, 0, 0, 0];
+
+    /// A description whose one output `y` is in `unit` (defined with `exps`, `factor`) or has no unit.
+    fn md(unit: Option<(&str, [i32; 8], f64)>) -> ModelDescription {
+        let mut b = ModelBuilder::new("M", "M");
+        let mut y = ScalarVariable::real("y", 0, Causality::Output, Variability::Continuous).depends_on(&[]);
+        if let Some((name, exps, factor)) = unit {
+            b = b.unit_scaled(name, exps, factor);
+            y = y.unit_of(name);
+        }
+        b.var(y).build().unwrap()
+    }
+
+    fn check(a: &ModelDescription, b: &ModelDescription) -> Result<(), String> {
+        let (va, vb) = (a.variable("y").unwrap(), b.variable("y").unwrap());
+        check_units("connection a.y → b.y", ("a", va, a), ("b", vb, b)).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn direct_connections_must_mean_the_same_unit() {
+        let m = md(Some(("m", M, 1.0)));
+        let mm = md(Some(("mm", M, 1e-3)));
+        let metre = md(Some(("metre", M, 1.0)));
+        let ms = md(Some(("m/s", [0, 1, -1, 0, 0, 0, 0, 0], 1.0)));
+        let bare = md(None);
+        assert_eq!(check(&m, &m), Ok(()));
+        assert_eq!(check(&m, &metre), Ok(()), "same definition, another name");
+        assert_eq!(check(&bare, &m), Ok(()), "nothing declared to check");
+        let e = check(&mm, &m).unwrap_err();
+        assert!(e.starts_with("unit mismatch: connection a.y → b.y: a.y is in mm but b.y is in m"), "{e}");
+        assert!(e.contains("factor=\"0.001\""), "{e}");
+        let e = check(&ms, &m).unwrap_err();
+        assert!(e.contains("a.y is in m/s but b.y is in m (different physical dimensions)"), "{e}");
+        // a unit the FMU does not define and the registry does not know
+        let furlong = md(None);
+        let mut f = furlong.clone();
+        if let model_description::VarKind::Real(r) = &mut f.model_variables.variables[0].kind {
+            r.unit = Some("furlong".into());
+        }
+        assert!(check(&f, &m).unwrap_err().contains("cannot be checked"));
+    }
 }

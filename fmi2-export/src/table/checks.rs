@@ -172,8 +172,9 @@ fn real_inputs<M: crate::Fmi2Model>() -> Vec<(String, u32)> {
         .collect()
 }
 
-/// Every Real input of `M` refuses NaN, +Inf and −Inf (`fmi2Error` with a message naming the
-/// input) and the instance takes a step of `h` afterwards. Errs when `M` has no Real input.
+/// Every Real input of `M` discards NaN, +Inf and −Inf (`fmi2Discard` with a message naming the
+/// input; the input keeps its previous value) and the instance takes a step of `h` afterwards.
+/// Errs when `M` has no Real input.
 pub fn non_finite_inputs_are_refused<M: crate::Fmi2Model>(h: f64) -> Result<(), String> {
     let inputs = real_inputs::<M>();
     if inputs.is_empty() {
@@ -182,11 +183,18 @@ pub fn non_finite_inputs_are_refused<M: crate::Fmi2Model>(h: f64) -> Result<(), 
     for (name, vr) in inputs {
         for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
             let mut inst = ready::<M>();
+            let mut before = Vec::new();
+            inst.get("fmi2GetReal", ScalarType::Real, &[vr], &mut before).map_err(|e| format!("{name}: {e:?}"))?;
             match inst.set("fmi2SetReal", ScalarType::Real, &[vr], &[Value::Real(bad)]) {
-                Err(crate::instance::CallError::Error(m)) if m.contains(name.as_str()) => {}
-                other => return Err(format!("{name} = {bad}: {other:?} (expected fmi2Error naming it)")),
+                Err(crate::instance::CallError::Discard(m)) if m.contains(name.as_str()) => {}
+                other => return Err(format!("{name} = {bad}: {other:?} (expected fmi2Discard naming it)")),
             }
-            inst.do_step(0.0, h).map_err(|e| format!("a step after refusing {name} = {bad}: {e:?}"))?;
+            let mut after = Vec::new();
+            inst.get("fmi2GetReal", ScalarType::Real, &[vr], &mut after).map_err(|e| format!("{name}: {e:?}"))?;
+            if before != after {
+                return Err(format!("{name} = {bad} was discarded but the input changed: {before:?} -> {after:?}"));
+            }
+            inst.do_step(0.0, h).map_err(|e| format!("a step after discarding {name} = {bad}: {e:?}"))?;
         }
     }
     Ok(())
