@@ -62,7 +62,7 @@ impl Windows {
 }
 
 /// One run's metrics (SI units).
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub struct Metrics {
     /// RMS of x over the RMS window \[m\].
     pub rms: f64,

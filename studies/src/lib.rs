@@ -70,6 +70,7 @@
 //! | [`batch`] | many short FMU runs in parallel: windows, metrics, the streamed crash-safe results CSV, Table 7 statistics |
 //! | [`figures`] | line plots and heat maps on a common colour scale |
 //! | [`robustness`] | seed 000 Table 7: the 19-point × 2-seed sample and its statistics |
+//! | [`robustness_cases`] | the robustness sample as independent cases (`chatter plan robustness`, `run`, `collect`) |
 //! | [`sweeps`] | seed 000 Figure 15: feed and engagement sweeps, harmonic balance, closed-form lobe minimum |
 //! | [`map`] | seed 000 Figure 16: the speed × depth map and its growth check against the lobes |
 //! | [`cases`] | a study as independent cases: plan (manifest), run any subset anywhere (shards, Slurm arrays, Dask), collect |
@@ -91,6 +92,7 @@ pub mod map;
 pub mod output;
 pub mod pso;
 pub mod robustness;
+pub mod robustness_cases;
 pub mod scenario;
 pub mod sd_lobes;
 pub mod sd_validation;

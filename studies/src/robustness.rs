@@ -238,40 +238,93 @@ pub fn core_open_loop_rms(plant: &(PlantParams, PlantInputs), w: &Windows) -> Re
     Ok((s2 / m.max(1) as f64).sqrt())
 }
 
+/// Header of `robustness.csv`.
+pub const CSV_HEADER: &str = "controller,point,group,seed,mass_kg,stiffness_N_per_m,kt_N_per_m2,noise_rms_N,rpm,rms_um,rms_detrended_um,saturation_duty";
+
+/// One row of `robustness.csv`.
+pub fn csv_row(s: &Robustness, j: &Run, r: &Metrics) -> String {
+    let (p, i) = &j.plant;
+    format!(
+        "{},\"{}\",{:?},{},{},{},{},{},{},{:.6},{:.6},{:.6}",
+        j.controller.name(),
+        s.points[j.point].name,
+        s.points[j.point].group,
+        j.seed,
+        p.workpiece.first.mass,
+        p.workpiece.first.stiffness,
+        p.cutting.kt,
+        p.disturbance.noise_rms,
+        i.spindle_speed_rpm,
+        r.rms * 1e6,
+        r.rms_detrended * 1e6,
+        r.saturation_duty
+    )
+}
+
 /// Run the study (all runs in parallel; rows streamed to `<out>/robustness.csv`).
 pub fn run(sys: &SystemFile, s: &Robustness) -> Result<Vec<(Run, Metrics)>, StudyError> {
     let roles = roles(sys)?;
     let jobs = runs(sys, s)?;
-    let sink = RowSink::create(
-        &s.out.join("robustness.csv"),
-        "controller,point,group,seed,mass_kg,stiffness_N_per_m,kt_N_per_m2,noise_rms_N,rpm,rms_um,rms_detrended_um,saturation_duty",
-    )?;
+    let sink = RowSink::create(&s.out.join("robustness.csv"), CSV_HEADER)?;
     let m = run_all(
         &jobs,
         "robustness",
         &sink,
         |j| format!("{} at {} (seed {})", j.controller.name(), s.points[j.point].name, j.seed),
         |j| run_one(sys, &roles, j.overrides.clone(), &s.windows),
-        |j, r| {
-            let (p, i) = &j.plant;
-            format!(
-                "{},\"{}\",{:?},{},{},{},{},{},{},{:.6},{:.6},{:.6}",
-                j.controller.name(),
-                s.points[j.point].name,
-                s.points[j.point].group,
-                j.seed,
-                p.workpiece.first.mass,
-                p.workpiece.first.stiffness,
-                p.cutting.kt,
-                p.disturbance.noise_rms,
-                i.spindle_speed_rpm,
-                r.rms * 1e6,
-                r.rms_detrended * 1e6,
-                r.saturation_duty
-            )
-        },
+        |j, r| csv_row(s, j, r),
     )?;
     Ok(jobs.into_iter().zip(m).collect())
+}
+
+/// `robustness.md` and `robustness.png` in `s.out` from the rows: [`report`] under `title`, the
+/// speed-sweep peaks and the per-point figure. Returns the markdown.
+pub fn write_report(
+    sys: &SystemFile,
+    s: &Robustness,
+    rows: &[(Run, Metrics)],
+    title: &str,
+) -> Result<(String, Vec<PathBuf>), StudyError> {
+    let mut md = report(s, rows, title);
+    let base = base_plant(sys, &roles(sys)?)?;
+    for &c in &s.controllers {
+        if let Some((peak, res)) = speed_peak(s, rows, c, &base) {
+            let _ = write!(
+                md,
+                "\nk −15 % speed sweep, {}: largest RMS at {peak:.0} rpm; the first mode meets tooth passing (h = 1) at {:.0} rpm and its 2nd harmonic at {:.0} rpm.",
+                c.name(),
+                res[0],
+                res[1]
+            );
+        }
+    }
+    md.push('\n');
+    let png = s.out.join("robustness.png");
+    let series = s
+        .controllers
+        .iter()
+        .map(|&c| {
+            let v = (0..s.points.len())
+                .map(|k| {
+                    let v: Vec<f64> =
+                        rows.iter().filter(|r| r.0.controller == c && r.0.point == k).map(|r| r.1.rms * 1e6).collect();
+                    v.iter().sum::<f64>() / v.len().max(1) as f64
+                })
+                .collect();
+            (c.name().to_string(), v)
+        })
+        .collect::<Vec<_>>();
+    let names = s.points.iter().map(|p| p.name.clone()).collect::<Vec<_>>();
+    crate::figures::plot_points(
+        &png,
+        "Robustness sample: raw RMS per point (mean over seeds)",
+        &names,
+        &series,
+        "RMS x [µm]",
+    )?;
+    let md_path = s.out.join("robustness.md");
+    std::fs::write(&md_path, &md).map_err(|e| StudyError::io(&md_path, e))?;
+    Ok((md, vec![md_path, png]))
 }
 
 /// The markdown report: Table 7 statistics beside the seed's, then the per-point means.

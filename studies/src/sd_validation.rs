@@ -25,18 +25,28 @@ use crate::validation::GrowthWindows;
 use chatter_control::Structure;
 use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
 use milling_plant::{CuttingModel, PlantInputs, PlantParams};
+use milling_process::ProcessParams;
 use model_description::Value;
 use std::collections::VecDeque;
 
-/// The plant FMU of a system, set up for the time-domain check of one machine.
+/// The plant FMU of a system (or the process + structure FMUs of the decomposed system), set up
+/// for the time-domain check of one machine.
 pub struct SdFmuCheck<'a> {
     sys: &'a SystemFile,
-    roles: Roles,
-    plant: PlantParams,
+    target: Target,
     /// Feed per tooth \[m\].
     pub feed: f64,
     /// Communication (and recording) step \[s\].
     pub step: f64,
+}
+
+/// Which FMUs carry the machine.
+enum Target {
+    /// `MillingPlant.fmu` with the parameters `plant` (all set as typed overrides).
+    Plant { roles: Roles, plant: PlantParams },
+    /// `DecomposedPlant.ssp`: `process` (MillingProcess, these parameters), `structure`
+    /// (ModalStructure with its shipped modes, disturbances off), `controller` off.
+    Decomposed { process: ProcessParams },
 }
 
 /// `|x(t) − x(t − τ)|` of the recorded samples into [`GrowthWindows`].
@@ -70,21 +80,56 @@ impl Observer for Regen {
 impl<'a> SdFmuCheck<'a> {
     /// The check for machine `plant` in system `sys`, feed 0.1 mm, step 10 µs.
     pub fn new(sys: &'a SystemFile, plant: &PlantParams) -> Result<Self, StudyError> {
-        Ok(SdFmuCheck { sys, roles: roles(sys)?, plant: plant.clone(), feed: 0.1e-3, step: 1e-5 })
+        let target = Target::Plant { roles: roles(sys)?, plant: plant.clone() };
+        Ok(SdFmuCheck { sys, target, feed: 0.1e-3, step: 1e-5 })
     }
 
-    /// The typed overrides of one run: the plant (quiet release, time-domain cutting at `depth`),
-    /// its inputs (no command, `rpm`, the feed) and the controller off.
+    /// The same check on the decomposed system `sys` (`DecomposedPlant.ssp`: components
+    /// `process`, `structure`, `actuator`, `controller`), the process with the parameters
+    /// `process` (its axial depth is set per run), feed 0.1 mm, step 10 µs. The structure's
+    /// noise, sinusoid and drift are switched off; it starts at rest, so the perturbation is the
+    /// start-up transient of the static cutting force (the plant check releases from 1 µm).
+    pub fn decomposed(sys: &'a SystemFile, process: &ProcessParams) -> Result<Self, StudyError> {
+        let names: Vec<&str> = sys.desc.components.iter().map(|c| c.name.as_str()).collect();
+        for c in ["process", "structure", "controller"] {
+            if !names.contains(&c) {
+                return Err(StudyError::Invalid(format!("the decomposed system has no component {c:?} ({names:?})")));
+            }
+        }
+        Ok(SdFmuCheck { sys, target: Target::Decomposed { process: process.clone() }, feed: 0.1e-3, step: 1e-5 })
+    }
+
+    /// The typed overrides of one run: the machine (quiet, time-domain cutting at `depth`), its
+    /// inputs (no command, `rpm`, the feed) and the controller off.
     pub fn overrides(&self, rpm: f64, depth: f64) -> Vec<Override> {
-        let mut p = quiet_release(&self.plant);
+        let (roles, plant) = match &self.target {
+            Target::Plant { roles, plant } => (roles, plant),
+            Target::Decomposed { process } => {
+                let mut p = process.clone();
+                p.axial_depth = depth;
+                let mut o = overrides_of("process", fmu_process::parameter_assignments(&p));
+                o.push(Override::typed("process.spindle_speed", Value::Real(rpm)));
+                o.push(Override::typed("process.feed_per_tooth", Value::Real(self.feed)));
+                for flag in ["structure.disturbance.noise", "structure.disturbance.drift"] {
+                    o.push(Override::typed(flag, Value::Boolean(false)));
+                }
+                o.push(Override::typed("structure.disturbance.sine_amplitude", Value::Real(0.0)));
+                o.push(Override::typed(
+                    "controller.structure",
+                    Value::Integer(model_kit::Choice::index(Structure::Off)),
+                ));
+                return o;
+            }
+        };
+        let mut p = quiet_release(plant);
         p.cutting.enabled = true;
         p.cutting.model = CuttingModel::TimeDomain;
         p.cutting.axial_depth = depth;
         let inputs = PlantInputs { u: 0.0, spindle_speed_rpm: rpm, feed_per_tooth: self.feed };
-        let mut o = overrides_of(&self.roles.plant, fmu_plant::parameter_assignments(&p));
-        o.extend(overrides_of(&self.roles.plant, fmu_plant::TABLE.input_assignments(&inputs)));
+        let mut o = overrides_of(&roles.plant, fmu_plant::parameter_assignments(&p));
+        o.extend(overrides_of(&roles.plant, fmu_plant::TABLE.input_assignments(&inputs)));
         o.push(Override::typed(
-            format!("{}.structure", self.roles.controller),
+            format!("{}.structure", roles.controller),
             Value::Integer(model_kit::Choice::index(Structure::Off)),
         ));
         o
@@ -102,18 +147,31 @@ impl<'a> SdFmuCheck<'a> {
             stop: Some(duration),
             step: Some(self.step),
             overrides: self.overrides(rpm, depth),
-            record: Some(vec![format!("{}.x", self.roles.plant)]),
+            record: Some(vec![self.measured()]),
             ..RunConfig::default()
         };
         let mut sim = Simulation::new(self.sys, &cfg)?;
         let n = usize::try_from(sim.n_steps() + 1).unwrap_or(usize::MAX);
-        let tau = 60.0 / (self.plant.cutting.teeth as f64 * rpm);
+        let teeth = match &self.target {
+            Target::Plant { plant, .. } => plant.cutting.teeth,
+            Target::Decomposed { process } => process.teeth,
+        };
+        let tau = 60.0 / (f64::from(teeth) * rpm);
         let mut obs = Regen { windows: GrowthWindows::new(n), lag: tau / self.step, past: VecDeque::new() };
         match sim.run(&mut obs, Progress::Off) {
             // the plant stops with an error when |x| passes its limit: grown far beyond the release
             Err(SimError::Fmu(_)) if obs.windows.max > 100.0 * RELEASE => Ok(f64::INFINITY),
             Err(e) => Err(e.into()),
             Ok(_) => Ok(obs.windows.ratio()),
+        }
+    }
+
+    /// The recorded displacement: the plant's `x`, or the structure's `tool_x` (the decomposed
+    /// system's structure is the workpiece: its "tool point" is the cutting point).
+    fn measured(&self) -> String {
+        match &self.target {
+            Target::Plant { roles, .. } => roles.measured(),
+            Target::Decomposed { .. } => "structure.tool_x".into(),
         }
     }
 

@@ -317,3 +317,49 @@ fn sd_lobes_quick_runs_both_machines() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("no parameter or input"));
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// The robustness sample as independent cases: planned, run in three shards (one of them
+/// interrupted and re-run: only the missing cases run) and collected, it gives the tables of a
+/// local `chatter robustness` run (rows in manifest order instead of completion order; the
+/// local title adds the wall time).
+#[test]
+fn robustness_as_cases_in_shards_collects_the_local_runs_tables() {
+    let args = ["--quick", "--controllers", "off,pid", "--groups", "speed", "--speeds", "1900,2350"];
+    let local = out_dir("rob-local");
+    let mut a: Vec<&str> = vec!["robustness"];
+    a.extend(args);
+    let l = local.to_str().unwrap();
+    a.extend(["--out", l]);
+    run(&a);
+    let study = out_dir("rob-cases");
+    let sdir = study.to_str().unwrap();
+    let mut p: Vec<&str> = vec!["plan", "robustness"];
+    p.extend(args);
+    p.extend(["--out", sdir]);
+    assert!(run(&p).contains("planned 4 cases of robustness"));
+    run(&["run", sdir, "--shard", "1/3"]);
+    // shard 2 "interrupted" after its first case: drop one result and run the shard again
+    run(&["run", sdir, "--shard", "2/3"]);
+    let results: Vec<_> = std::fs::read_dir(study.join("cases")).unwrap().map(|e| e.unwrap().path()).collect();
+    // cases in manifest order: off-p00, off-p01, pid-p00, pid-p01; shard 2/3 is the second
+    let dropped = results.iter().find(|p| p.to_string_lossy().contains("off-p01")).expect("shard 2 ran off-p01");
+    std::fs::remove_file(dropped).unwrap();
+    let again = run(&["run", sdir, "--shard", "2/3"]);
+    assert!(again.contains("1 cases run, 0 already done"), "{again}");
+    run(&["run", sdir, "--shard", "3/3"]);
+    run(&["collect", sdir]);
+    let read = |d: &PathBuf, f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+    let mut lc: Vec<String> = read(&local, "robustness.csv").lines().map(String::from).collect();
+    let mut cc: Vec<String> = read(&study, "robustness.csv").lines().map(String::from).collect();
+    assert_eq!(lc.len(), 5, "header + 4 runs");
+    lc.sort();
+    cc.sort();
+    assert_eq!(lc, cc, "the same runs with the same numbers");
+    let (lm, cm) = (read(&local, "robustness.md"), read(&study, "robustness.md"));
+    let body = |s: &str| s.lines().skip(1).map(String::from).collect::<Vec<_>>();
+    assert_eq!(body(&lm), body(&cm), "the same tables");
+    assert!(lm.lines().next().unwrap().starts_with(cm.lines().next().unwrap()), "titles: {lm:.120} / {cm:.120}");
+    assert!(study.join("robustness.png").is_file());
+    std::fs::remove_dir_all(&local).unwrap();
+    std::fs::remove_dir_all(&study).unwrap();
+}

@@ -42,3 +42,32 @@ fn fmu_decays_below_and_grows_above_the_sd_boundary_at_hopf_and_flip_points() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// Issue 12: the time-domain stability boundary of the decomposed plant (MillingProcess +
+/// ModalStructure + InertialActuator FMUs) equals that of the monolithic `MillingPlant.fmu`
+/// within 2 % at a Hopf point of the seed plant, both found by bisection through the FMUs
+/// (and both within 3 % of the SD boundary).
+#[test]
+fn the_decomposed_plant_has_the_monolithic_plants_boundary() {
+    let dir = packaging::fmu_dir();
+    let mono = closed_loop_system(&dir).unwrap();
+    let dec = studies::decomposed::decomposed_system(&dir).unwrap();
+    let plant = PlantParams::default();
+    let rpm = 2600.0;
+    let o = BisectionOptions { m: 40, start: 0.3e-3, growth: 1.1, max: 0.1, rel_tol: 1e-5 };
+    let model = seed000_model(&plant).unwrap();
+    let a = critical_value(|a| model.at(rpm, a), &o).unwrap().value.unwrap();
+    let bracket = (0.94 * a, 1.06 * a);
+    let b_mono = SdFmuCheck::new(&mono, &plant).unwrap().boundary(rpm, bracket, 1.5, 2e-3).unwrap();
+    let check = SdFmuCheck::decomposed(&dec, &milling_process::ProcessParams::default()).unwrap();
+    let b_dec = check.boundary(rpm, bracket, 1.5, 2e-3).unwrap();
+    let diff = b_dec / b_mono - 1.0;
+    eprintln!(
+        "{rpm} rpm: SD {:.4} mm, monolithic FMU {:.4} mm, decomposed FMUs {:.4} mm ({:+.2} %)",
+        a * 1e3,
+        b_mono * 1e3,
+        b_dec * 1e3,
+        100.0 * diff
+    );
+    assert!(diff.abs() < 0.02, "decomposed {b_dec} vs monolithic {b_mono}: {:.2} %", 100.0 * diff);
+}

@@ -6,11 +6,15 @@ use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use studies::cases::{self, CaseStudy, Selection};
 use studies::main_job::MainJob;
+use studies::robustness_cases::RobustnessCases;
 
 #[derive(Subcommand)]
 pub enum PlanCmd {
     /// The main job (Table 5): one case per controller × noise seed; `--out` is the study folder.
     MainJob(crate::main_job::MainJobArgs),
+    /// The robustness sample (Table 7): one case per controller × point × noise seed; `--out`
+    /// is the study folder.
+    Robustness(crate::robustness::RobustnessArgs),
 }
 
 #[derive(Args)]
@@ -47,6 +51,11 @@ pub fn plan(cmd: &PlanCmd) -> Result<()> {
             let n = cases::plan(&job, &a.out)?;
             println!("planned {n} cases of {} in {}", MainJob::KIND, a.out.display());
         }
+        PlanCmd::Robustness(a) => {
+            let study = RobustnessCases::from_spec(a.spec())?;
+            let n = cases::plan(&study, &a.out)?;
+            println!("planned {n} cases of {} in {}", RobustnessCases::KIND, a.out.display());
+        }
     }
     Ok(())
 }
@@ -82,6 +91,7 @@ pub fn run(a: &RunArgs) -> Result<()> {
     let sel = selection(a)?;
     match cases::kind(&a.dir)?.as_str() {
         MainJob::KIND => run_as::<MainJob>(&a.dir, &sel),
+        RobustnessCases::KIND => run_as::<RobustnessCases>(&a.dir, &sel),
         other => bail!("{}: unknown study {other:?}", a.dir.display()),
     }
 }
@@ -89,6 +99,7 @@ pub fn run(a: &RunArgs) -> Result<()> {
 pub fn collect(a: &CollectArgs) -> Result<()> {
     let collected = match cases::kind(&a.dir)?.as_str() {
         MainJob::KIND => cases::collect::<MainJob>(&a.dir)?,
+        RobustnessCases::KIND => cases::collect::<RobustnessCases>(&a.dir)?,
         other => bail!("{}: unknown study {other:?}", a.dir.display()),
     };
     println!("{}", collected.text);
