@@ -73,6 +73,7 @@
 //! | [`robustness_cases`] | the robustness sample as independent cases (`chatter plan robustness`, `run`, `collect`) |
 //! | [`sweeps`] | seed 000 Figure 15: feed and engagement sweeps, harmonic balance, closed-form lobe minimum |
 //! | [`map`] | seed 000 Figure 16: the speed × depth map and its growth check against the lobes |
+//! | [`map_cases`] | the map as independent cases (`chatter plan map`, `run`, `collect`) |
 //! | [`cases`] | a study as independent cases: plan (manifest), run any subset anywhere (shards, Slurm arrays, Dask), collect |
 
 pub mod batch;
@@ -89,6 +90,7 @@ pub mod lobes;
 pub mod loop_frf;
 pub mod main_job;
 pub mod map;
+pub mod map_cases;
 pub mod output;
 pub mod pso;
 pub mod robustness;

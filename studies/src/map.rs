@@ -12,6 +12,7 @@
 
 use crate::StudyError;
 use crate::batch::{Metrics, RowSink, Windows, run_all, run_one};
+use crate::figures::{Heat, heat_maps};
 use crate::fmu_params::resolve;
 use crate::loop_frf;
 use crate::robustness::{base_plant, plant_overrides};
@@ -20,6 +21,7 @@ use chatter_control::Structure;
 use fmi_master::{Override, SystemFile};
 use model_description::Value;
 use model_kit::Choice;
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// Growth threshold of the check: last-second RMS over the first.
@@ -84,8 +86,23 @@ impl Cell {
     }
 }
 
-/// Run the map (rows streamed to `<out>/map.csv`).
-pub fn run(sys: &SystemFile, s: &MapStudy) -> Result<Vec<Cell>, StudyError> {
+/// One run of the map: a controller at a (depth, speed) cell.
+#[derive(Clone, Debug)]
+pub struct MapJob {
+    /// Controller.
+    pub controller: Structure,
+    /// Row (depth index).
+    pub i: usize,
+    /// Column (speed index).
+    pub j: usize,
+    /// The lobe solver's critical depth at this speed for this controller \[m\].
+    pub b_lim: f64,
+    /// Every override of the run.
+    pub overrides: Vec<Override>,
+}
+
+/// Every run of the map (controller × speed × depth), with the lobe solver's b_lim per speed.
+pub fn jobs(sys: &SystemFile, s: &MapStudy) -> Result<Vec<MapJob>, StudyError> {
     if s.depths.is_empty() || s.rpm.is_empty() || s.controllers.is_empty() {
         return Err(StudyError::Invalid("the map needs at least one depth, one speed and one controller".into()));
     }
@@ -120,37 +137,118 @@ pub fn run(sys: &SystemFile, s: &MapStudy) -> Result<Vec<Cell>, StudyError> {
                 inp.spindle_speed_rpm = rpm;
                 let mut o = o0.clone();
                 o.extend(plant_overrides(&roles, &(p, inp)));
-                jobs.push((c, i, j, b_lim, o));
+                jobs.push(MapJob { controller: c, i, j, b_lim, overrides: o });
             }
         }
     }
-    let sink = RowSink::create(
-        &s.out.join("map.csv"),
-        "controller,depth_mm,rpm,rms_um,rms_detrended_um,growth_last_over_first,saturation_duty,b_lim_mm",
-    )?;
+    Ok(jobs)
+}
+
+/// Header of `map.csv`.
+pub const CSV_HEADER: &str =
+    "controller,depth_mm,rpm,rms_um,rms_detrended_um,growth_last_over_first,saturation_duty,b_lim_mm";
+
+/// One row of `map.csv`.
+pub fn csv_row(s: &MapStudy, x: &Cell) -> String {
+    format!(
+        "{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6}",
+        x.controller.name(),
+        s.depths[x.i] * 1e3,
+        s.rpm[x.j],
+        x.metrics.rms * 1e6,
+        x.metrics.rms_detrended * 1e6,
+        x.growth(),
+        x.metrics.saturation_duty,
+        x.b_lim * 1e3
+    )
+}
+
+/// Run the map (rows streamed to `<out>/map.csv`).
+pub fn run(sys: &SystemFile, s: &MapStudy) -> Result<Vec<Cell>, StudyError> {
+    let jobs = jobs(sys, s)?;
+    let roles = roles(sys)?;
+    let sink = RowSink::create(&s.out.join("map.csv"), CSV_HEADER)?;
     run_all(
         &jobs,
         "map",
         &sink,
-        |j| format!("{} at {} mm, {} rpm", j.0.name(), s.depths[j.1] * 1e3, s.rpm[j.2]),
-        |(c, i, j, b_lim, o)| {
-            let metrics = run_one(sys, &roles, o.clone(), &s.windows)?;
-            Ok(Cell { controller: *c, i: *i, j: *j, metrics, b_lim: *b_lim })
+        |j| format!("{} at {} mm, {} rpm", j.controller.name(), s.depths[j.i] * 1e3, s.rpm[j.j]),
+        |j| {
+            let metrics = run_one(sys, &roles, j.overrides.clone(), &s.windows)?;
+            Ok(Cell { controller: j.controller, i: j.i, j: j.j, metrics, b_lim: j.b_lim })
         },
-        |_, x| {
-            format!(
-                "{},{},{},{:.6},{:.6},{:.6},{:.6},{:.6}",
-                x.controller.name(),
-                s.depths[x.i] * 1e3,
-                s.rpm[x.j],
-                x.metrics.rms * 1e6,
-                x.metrics.rms_detrended * 1e6,
-                x.growth(),
-                x.metrics.saturation_duty,
-                x.b_lim * 1e3
-            )
-        },
+        |_, x| csv_row(s, x),
     )
+}
+
+/// `map.md` and `map.png` in `s.out` from the cells: the summary table under `title` (peak,
+/// cells above 35 and 6 µm, the growth check against the lobes, the seed's figure), the lobe
+/// solver's b_lim per speed and the heat maps on a common colour scale. Returns the markdown.
+pub fn write_report(s: &MapStudy, cells: &[Cell], title: &str) -> Result<(String, Vec<PathBuf>), StudyError> {
+    let mut md = format!(
+        "{title}\n\n| controller | peak raw RMS (µm) at (a_p mm, rpm) | cells > 35 µm | cells > 6 µm | growth check: cells where 'last/first > {GROWTH}' ≠ 'a_p > b_lim' (tolerated at the boundary) | seed Figure 16 |\n|---|---|---|---|---|---|\n"
+    );
+    let mut panels = Vec::new();
+    let mut vmax: f64 = 0.0;
+    for &c in &s.controllers {
+        let m = matrix(s, cells, c, |x| x.metrics.rms * 1e6);
+        let Some(peak) =
+            cells.iter().filter(|x| x.controller == c).max_by(|x, y| x.metrics.rms.total_cmp(&y.metrics.rms))
+        else {
+            return Err(StudyError::Invalid(format!("no cell of {}", c.name())));
+        };
+        let count = |t: f64| cells.iter().filter(|x| x.controller == c && x.metrics.rms * 1e6 > t).count();
+        let d = disagreements(s, cells, c);
+        let bad = d.iter().filter(|x| !x.2).count();
+        let seed = SEED_PEAKS.iter().find(|(x, _)| *x == c).map_or("–", |(_, v)| v);
+        let _ = writeln!(
+            md,
+            "| {} | {:.2} at ({}, {}) | {} | {} | {} ({} tolerated) | {seed} |",
+            c.name(),
+            peak.metrics.rms * 1e6,
+            s.depths[peak.i] * 1e3,
+            s.rpm[peak.j],
+            count(35.0),
+            count(6.0),
+            d.len(),
+            d.len() - bad
+        );
+        vmax = vmax.max(peak.metrics.rms * 1e6);
+        panels.push((c.name().to_string(), m));
+    }
+    let _ = write!(md, "\nLobe solver b_lim(N) (mm), per controller:\n\n| controller |");
+    for r in &s.rpm {
+        let _ = write!(md, " {r} |");
+    }
+    let _ = writeln!(md, "\n|---|{}", "---|".repeat(s.rpm.len()));
+    for &c in &s.controllers {
+        let _ = write!(md, "| {} |", c.name());
+        for j in 0..s.rpm.len() {
+            let b = cells.iter().find(|x| x.controller == c && x.j == j).map_or(f64::NAN, |x| x.b_lim * 1e3);
+            let _ = write!(md, " {b:.3} |");
+        }
+        md.push('\n');
+    }
+    let mut written = Vec::new();
+    let md_path = s.out.join("map.md");
+    std::fs::write(&md_path, &md).map_err(|e| StudyError::io(&md_path, e))?;
+    written.push(md_path);
+    if s.depths.len() >= 2 && s.rpm.len() >= 2 {
+        let png = s.out.join("map.png");
+        let depths_mm: Vec<f64> = s.depths.iter().map(|d| d * 1e3).collect();
+        let heats: Vec<Heat<'_>> = panels.iter().map(|(t, v)| Heat { title: t.clone(), values: v }).collect();
+        heat_maps(
+            &png,
+            &format!("Raw RMS tip displacement (common colour scale 0–{vmax:.1} µm; cf. seed Figure 16)"),
+            ("spindle speed [rpm]", &s.rpm),
+            ("axial depth [mm]", &depths_mm),
+            &heats,
+            vmax,
+            "RMS [µm]",
+        )?;
+        written.push(png);
+    }
+    Ok((md, written))
 }
 
 /// The cells of one controller as a depth × speed matrix of `f`.

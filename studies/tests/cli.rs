@@ -363,3 +363,38 @@ fn robustness_as_cases_in_shards_collects_the_local_runs_tables() {
     std::fs::remove_dir_all(&local).unwrap();
     std::fs::remove_dir_all(&study).unwrap();
 }
+
+/// `chatter <study> ARGS --out LOCAL` and `chatter plan <study> ARGS --out DIR` + `run --shard
+/// k/n` for every k + `collect DIR` write the same `<csv>` rows (in manifest order instead of
+/// completion order) and the same `<md>` tables (the local title adds the wall time).
+fn cases_match_local(study: &str, args: &[&str], n: usize, csv: &str, md: &str) -> usize {
+    let (local, cases) = (out_dir(&format!("{study}-local")), out_dir(&format!("{study}-cases")));
+    let (l, c) = (local.to_str().unwrap(), cases.to_str().unwrap());
+    run(&[&[study], args, &["--out", l]].concat());
+    run(&[&["plan", study], args, &["--out", c]].concat());
+    for k in 1..=n {
+        run(&["run", c, "--shard", &format!("{k}/{n}")]);
+    }
+    run(&["collect", c]);
+    let read = |d: &PathBuf, f: &str| std::fs::read_to_string(d.join(f)).unwrap();
+    let sorted = |s: String| {
+        let mut v: Vec<String> = s.lines().map(String::from).collect();
+        v.sort();
+        v
+    };
+    let rows = sorted(read(&local, csv));
+    assert_eq!(rows, sorted(read(&cases, csv)), "{study}: the same runs with the same numbers");
+    let (lm, cm) = (read(&local, md), read(&cases, md));
+    let body = |s: &str| s.lines().skip(1).map(String::from).collect::<Vec<_>>();
+    assert_eq!(body(&lm), body(&cm), "{study}: the same tables");
+    assert!(lm.lines().next().unwrap().starts_with(cm.lines().next().unwrap()), "{study} titles");
+    std::fs::remove_dir_all(&local).unwrap();
+    std::fs::remove_dir_all(&cases).unwrap();
+    rows.len() - 1
+}
+
+#[test]
+fn the_map_as_cases_in_shards_collects_the_local_maps_tables() {
+    let args = ["--quick", "--controllers", "off", "--depths", "0.5,2.5", "--rpm", "1000,1200,200", "--quiet"];
+    assert_eq!(cases_match_local("map", &args, 2, "map.csv", "map.md"), 4);
+}

@@ -6,6 +6,7 @@ use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use studies::cases::{self, CaseStudy, Selection};
 use studies::main_job::MainJob;
+use studies::map_cases::MapCases;
 use studies::robustness_cases::RobustnessCases;
 
 #[derive(Subcommand)]
@@ -15,6 +16,9 @@ pub enum PlanCmd {
     /// The robustness sample (Table 7): one case per controller × point × noise seed; `--out`
     /// is the study folder.
     Robustness(crate::robustness::RobustnessArgs),
+    /// The speed × depth map (Figure 16): one case per controller × speed × depth; `--out` is
+    /// the study folder.
+    Map(crate::map::MapArgs),
 }
 
 #[derive(Args)]
@@ -56,6 +60,11 @@ pub fn plan(cmd: &PlanCmd) -> Result<()> {
             let n = cases::plan(&study, &a.out)?;
             println!("planned {n} cases of {} in {}", RobustnessCases::KIND, a.out.display());
         }
+        PlanCmd::Map(a) => {
+            let study = MapCases::from_spec(a.spec())?;
+            let n = cases::plan(&study, &a.out)?;
+            println!("planned {n} cases of {} in {}", MapCases::KIND, a.out.display());
+        }
     }
     Ok(())
 }
@@ -92,6 +101,7 @@ pub fn run(a: &RunArgs) -> Result<()> {
     match cases::kind(&a.dir)?.as_str() {
         MainJob::KIND => run_as::<MainJob>(&a.dir, &sel),
         RobustnessCases::KIND => run_as::<RobustnessCases>(&a.dir, &sel),
+        MapCases::KIND => run_as::<MapCases>(&a.dir, &sel),
         other => bail!("{}: unknown study {other:?}", a.dir.display()),
     }
 }
@@ -100,6 +110,7 @@ pub fn collect(a: &CollectArgs) -> Result<()> {
     let collected = match cases::kind(&a.dir)?.as_str() {
         MainJob::KIND => cases::collect::<MainJob>(&a.dir)?,
         RobustnessCases::KIND => cases::collect::<RobustnessCases>(&a.dir)?,
+        MapCases::KIND => cases::collect::<MapCases>(&a.dir)?,
         other => bail!("{}: unknown study {other:?}", a.dir.display()),
     };
     println!("{}", collected.text);
