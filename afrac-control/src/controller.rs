@@ -47,11 +47,11 @@
 //! [`Afrac::sample`] at `t_k` reads `(x, ẋ)` at `t_k` and returns the commands to hold over
 //! `[t_k, t_k + τ)`.
 
+use crate::AfracError;
 use crate::delay_model::DelayModel;
 use crate::memory::Memory;
 use crate::oustaloup::{Band, Integrator};
 use crate::schedule::Schedule;
-use crate::AfracError;
 use milling_process::history::{History, XySample};
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
@@ -129,10 +129,14 @@ impl Default for AfracParams {
     }
 }
 
-/// λ₂ (reading, see the README).
-pub const DEFAULT_LAMBDA_FEED: f64 = 1e4;
-/// λ₃ (reading, see the README).
-pub const DEFAULT_LAMBDA_SPEED: f64 = 1e4;
+/// λ₂ (reading): the feed law's scale is `s₀ x G/a₂ ≈ 1e-13` per unit gain at the chatter
+/// amplitudes of Table 2, so λ₂ = 1e9 moves the feed by a few 0.1 % to a few % of f₀ while
+/// the speed moves by 5–300 % (the feed acts only through `a₂ ∝ s₀^{Y−1}`, a weak lever).
+pub const DEFAULT_LAMBDA_FEED: f64 = 1e9;
+/// λ₃ (reading): with β = 1 the 5 mm case falls to 10 % of its peak in about 2.7 s (Figure 7's
+/// slowest curve settles in 2–2.5 s); larger λ₃ does not make β = 1 faster (the speed stops
+/// near 476 rpm, just inside the stable lobe) but drives β = 1.75 into the speed limit.
+pub const DEFAULT_LAMBDA_SPEED: f64 = 4e6;
 
 impl AfracParams {
     /// ω_n.
@@ -192,7 +196,12 @@ impl AfracParams {
             return Err(e("feed_max", self.feed_max));
         }
         let b = &self.band;
-        if !(b.omega_b.is_finite() && b.omega_b > 0.0 && b.omega_h.is_finite() && b.omega_h > b.omega_b && (1..=4).contains(&b.n)) {
+        if !(b.omega_b.is_finite()
+            && b.omega_b > 0.0
+            && b.omega_h.is_finite()
+            && b.omega_h > b.omega_b
+            && (1..=4).contains(&b.n))
+        {
             return Err(AfracError::Params("the Oustaloup band needs 0 < ω_b < ω_h and 1 ≤ N ≤ 4".into()));
         }
         if 60.0 / self.reference_speed < 2.0 * self.sample_period {
@@ -371,7 +380,9 @@ impl Afrac {
     /// One sample at `t_k = k τ`: measurements `(x, ẋ)` in, commands for `[t_k, t_k + τ)` out.
     pub fn sample(&mut self, x: f64, v: f64) -> Result<AfracOutputs, AfracError> {
         if !(x.is_finite() && v.is_finite() && x.abs() < 1e6 && v.abs() < 1e9) {
-            return Err(AfracError::Input(format!("measurement x = {x} mm, v = {v} mm/s is not finite or out of range")));
+            return Err(AfracError::Input(format!(
+                "measurement x = {x} mm, v = {v} mm/s is not finite or out of range"
+            )));
         }
         let p = &self.params;
         let tau = p.sample_period;
@@ -421,5 +432,49 @@ impl Afrac {
             return Err("controller memory is not finite".into());
         }
         self.measured.validate()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn at_rest_the_commands_stay_at_the_initial_point_bitwise() {
+        let mut c = Afrac::new(&AfracParams::default()).unwrap();
+        for _ in 0..3000 {
+            let o = c.sample(0.0, 0.0).unwrap();
+            assert_eq!(o.spindle_speed.to_bits(), 450f64.to_bits());
+            assert_eq!(o.feed.to_bits(), 0.1f64.to_bits());
+        }
+        assert!(matches!(c.sample(f64::NAN, 0.0), Err(AfracError::Input(_))));
+        assert!(matches!(c.sample(0.0, f64::INFINITY), Err(AfracError::Input(_))));
+        assert!(c.validate_state().is_ok());
+    }
+
+    #[test]
+    fn bumpless_switching_keeps_the_integrated_output_continuous() {
+        let jump = |bumpless: bool| {
+            let mut bank = Bank::new(&[1.9, 1.75, 1.0], &Band::default(), 1e-4);
+            let mut y = 0.0;
+            for _ in 0..5000 {
+                y = bank.sample(1.9, 1.0, bumpless);
+            }
+            let step = bank.sample(1.9, 1.0, bumpless) - y;
+            let after = bank.sample(1.75, 1.0, bumpless);
+            let after2 = bank.sample(1.75, 1.0, bumpless);
+            (after - (y + 2.0 * step), after2 - after)
+        };
+        let (plain, smooth) = (jump(false), jump(true));
+        // switched: the output jumps to the other filter's value; bumpless: it moves on by about
+        // one sample's increment
+        assert!(plain.0.abs() > 100.0 * plain.1.abs(), "{plain:?}");
+        assert!(smooth.0.abs() < 2.0 * smooth.1.abs(), "{smooth:?}");
+    }
+
+    #[test]
+    fn an_unstable_reference_speed_is_refused() {
+        let p = AfracParams { reference_speed: 450.0, ..Default::default() };
+        assert!(matches!(Afrac::new(&p), Err(AfracError::Design(_))));
     }
 }

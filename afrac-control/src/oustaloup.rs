@@ -290,7 +290,10 @@ mod tests {
         // paper's Table 3)
         let paper = worst_error(&Band::default(), 2.5);
         let fine = worst_error(&Band { n: 4, ..Band::default() }, 2.5);
-        println!("over ω_u·10^±2.5: N = 1 worst {:.2} dB, {:.1}°; N = 4 worst {:.3} dB, {:.2}°", paper.0, paper.1, fine.0, fine.1);
+        println!(
+            "over ω_u·10^±2.5: N = 1 worst {:.2} dB, {:.1}°; N = 4 worst {:.3} dB, {:.2}°",
+            paper.0, paper.1, fine.0, fine.1
+        );
         assert!(fine.0 < 1.0 && fine.1 < 16.0, "{fine:?}");
         assert!(paper.0 < 4.5 && paper.1 < 60.0, "{paper:?}");
     }

@@ -74,6 +74,7 @@
 //! | [`map`] | seed 000 Figure 16: the speed × depth map and its growth check against the lobes |
 //! | [`cases`] | a study as independent cases: plan (manifest), run any subset anywhere (shards, Slurm arrays, Dask), collect |
 
+pub mod afrac;
 pub mod batch;
 pub mod cases;
 pub mod closed_loop;

@@ -107,8 +107,12 @@ impl TurningParams {
     /// Check ranges.
     pub fn validate(&self) -> Result<(), TurningError> {
         let bad = |name: &str, v: f64| TurningError::Params(format!("{name} = {v} is out of range"));
-        let pos = |name: &str, v: f64, max: f64| if v.is_finite() && v > 0.0 && v <= max { Ok(()) } else { Err(bad(name, v)) };
-        let nonneg = |name: &str, v: f64, max: f64| if v.is_finite() && (0.0..=max).contains(&v) { Ok(()) } else { Err(bad(name, v)) };
+        let pos = |name: &str, v: f64, max: f64| {
+            if v.is_finite() && v > 0.0 && v <= max { Ok(()) } else { Err(bad(name, v)) }
+        };
+        let nonneg = |name: &str, v: f64, max: f64| {
+            if v.is_finite() && (0.0..=max).contains(&v) { Ok(()) } else { Err(bad(name, v)) }
+        };
         pos("natural_frequency", self.natural_frequency, 1e5)?;
         nonneg("damping_ratio", self.damping_ratio, 10.0)?;
         nonneg("kappa", self.kappa, 1e3)?;
