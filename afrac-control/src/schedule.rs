@@ -112,6 +112,7 @@ mod tests {
     use super::*;
 
     #[test]
+    #[allow(clippy::float_cmp)] // the schedule returns the table's values exactly
     fn the_paper_schedule_steps_down_and_ends_at_one() {
         let s = Schedule::default();
         let at: Vec<f64> = [0.0, 0.7, 0.8, 1.3, 1.7, 2.39, 2.4, 5.0].iter().map(|t| s.beta_at(*t)).collect();
