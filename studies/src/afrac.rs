@@ -300,11 +300,11 @@ pub fn summary_csv(rows: &[Summary]) -> String {
 ///
 /// Table 4: four design variables of 6 bits each on `[0.02, 2.4]` s (64 levels, step
 /// 2.38/63 s), uniform crossover with p = 0.5, independent mutation of every allele with
-/// p = 0.01, stop when 99 % of the bits have converged (a bit has converged when at least
-/// 99 % of the population agrees on it… read here as: the fraction of bit positions on which
-/// the whole population agrees reaches 99 %), objective the mean `|x|`. Not given, chosen:
+/// p = 0.01, stop when 99 % of the bits have converged (read as: the fraction of bit
+/// positions on which the whole population agrees reaches 99 %), objective the mean `|x|`. Not given, chosen:
 /// population 20, binary tournament selection, one elite kept, at most 40 generations,
-/// ChaCha8 seeded (reproducible).
+/// ChaCha8 seeded (reproducible). A switch time's order is that of the latest time ≤ t
+/// ([`afrac_control::Schedule::beta_at`]): the GA does not constrain their sequence.
 #[derive(Clone, Debug)]
 pub struct Ga {
     /// Population size.
