@@ -76,6 +76,7 @@
 //! | [`map_cases`] | the map as independent cases (`chatter plan map`, `run`, `collect`) |
 //! | [`cases`] | a study as independent cases: plan (manifest), run any subset anywhere (shards, Slurm arrays, Dask), collect |
 
+pub mod afrac;
 pub mod batch;
 pub mod cases;
 pub mod closed_loop;

@@ -10,6 +10,8 @@
 //! chatter tune   [--plant seed|ozsoy] [--structures pid,fopid,adrc_fopid] [--runs 10] [--seed 1]
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
+//! chatter afrac [--quick] [--duration 3] [--lambda-speed L3] [--lambda-feed L2] [--out afrac-out]
+//! chatter afrac-ga [--quick] [--seed 1] [--population 20] [--generations 40] [--bumpless]
 //! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
 //! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
@@ -24,6 +26,7 @@
 //! the ADRC loop in the same force units (converted by `b0` as in `chatter_control::params`).
 //! Default gains: the seed's Table 2 preset (`--preset tuned`: the PSO-tuned FMU defaults).
 
+mod afrac;
 mod cases;
 mod check;
 mod common;
@@ -60,6 +63,10 @@ enum Cmd {
     Decomposed(decomposed::DecomposedArgs),
     /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
     DepthStudy(depth_study::DepthStudyArgs),
+    /// Seed 001: AFrAC on the turning process (open loop, fixed beta, Table 5 schedule): settling times, speed and feed excursions.
+    Afrac(afrac::AfracArgs),
+    /// Seed 001 Table 4: the genetic algorithm for the switch times of the stepwise beta schedule.
+    AfracGa(afrac::AfracGaArgs),
     /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
     Froh(froh::FrohArgs),
     /// Seed 000 Table 7 and Figures 11-13: the robustness sample (19 points x 2 noise seeds), through the FMUs.
@@ -108,6 +115,8 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Decomposed(a) => decomposed::decomposed(a),
         Cmd::DepthStudy(a) => depth_study::depth_study(a),
         Cmd::Froh(a) => froh::froh(a),
+        Cmd::Afrac(a) => afrac::afrac(a),
+        Cmd::AfracGa(a) => afrac::afrac_ga(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
         Cmd::Tune(a) => tune::tune(a),
