@@ -60,9 +60,7 @@ fn parameters_round_trip_and_cover_every_field() {
 #[test]
 fn the_fmu_steps_reproduce_its_frequency_response() {
     let (k1, k2) = (697.1599e3, -1071.058e3);
-    let mut p = LinearControlParams::default();
-    p.dc = [[k1, -k2], [k2, k1]];
-    p.n_c = 1;
+    let mut p = LinearControlParams { dc: [[k1, -k2], [k2, k1]], n_c: 1, ..Default::default() };
     p.ac[0][0] = -2.0 * PI * 3000.0;
     p.bc[0] = [2.0 * PI * 3000.0, 0.0];
     p.cc[1][0] = 5e5;

@@ -244,7 +244,7 @@ impl LinearController {
             let (mut force, mut w_last) = (self.out.force, self.out.w);
             // a clock behind the step (a restored state) jumps to the first sample due
             let first_due = ((t - t0) / ts - 1e-6).ceil().max(0.0);
-            if !(first_due < 9e15) {
+            if first_due >= 9e15 {
                 return Err(ControlError::Input(format!("the sample clock (start {t0} s) is invalid at t = {t} s")));
             }
             if first_due as u64 > self.next_sample + 1 {
@@ -267,8 +267,8 @@ impl LinearController {
                 let mut nx = [0.0; MAX_ORDER];
                 for (i, x) in nx.iter_mut().enumerate().take(n) {
                     *x = self.p.bc[i][0] * w[0] + self.p.bc[i][1] * w[1];
-                    for j in 0..n {
-                        *x += self.p.ac[i][j] * xi[j];
+                    for (j, xj) in xi.iter().enumerate().take(n) {
+                        *x += self.p.ac[i][j] * xj;
                     }
                 }
                 xi = nx;
@@ -287,8 +287,8 @@ impl LinearController {
                 let mut nx = [0.0; MAX_ORDER];
                 for (i, x) in nx.iter_mut().enumerate().take(n) {
                     *x = c.gamma[(i, 0)] * w[0] + c.gamma[(i, 1)] * w[1];
-                    for j in 0..n {
-                        *x += c.phi[(i, j)] * xi[j];
+                    for (j, xj) in xi.iter().enumerate().take(n) {
+                        *x += c.phi[(i, j)] * xj;
                     }
                 }
                 xi = nx;

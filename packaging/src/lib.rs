@@ -378,11 +378,13 @@ pub fn spindle_bindings() -> Result<Vec<(&'static str, Vec<ssp::Parameter>)>> {
         }
         Ok(out)
     };
-    let mut p = ProcessParams::default();
-    p.explicit_angles = true;
-    p.entry_angle = 0.0;
-    p.exit_angle = std::f64::consts::PI;
-    p.axial_depth = 1e-3;
+    let mut p = ProcessParams {
+        explicit_angles: true,
+        entry_angle: 0.0,
+        exit_angle: std::f64::consts::PI,
+        axial_depth: 1e-3,
+        ..Default::default()
+    };
     p.coefficients.law = ForceLaw::Power;
     p.coefficients.exponent = 1.0;
     p.coefficients.kt = 462e6;
