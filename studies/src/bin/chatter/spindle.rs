@@ -77,14 +77,14 @@ fn frf(a: &FrfArgs) -> Result<()> {
     let csv = a.out.join("tool_frf.csv");
     std::fs::write(&csv, frf_csv(&rows)).with_context(|| csv.display().to_string())?;
     let curve = |name: &str, f: &dyn Fn(&studies::seed002::FrfRow) -> f64| {
-        (name.to_string(), rows.iter().map(|r| (r.hz, f(r).log10())).collect::<Vec<_>>())
+        (name.to_string(), rows.iter().map(|r| (r.hz, f(r) * 1e6)).collect::<Vec<_>>())
     };
     let png = a.out.join("tool_frf.png");
     plot_xy(
         &png,
         &format!("tool FRF, k1 = {}, k2 = {} N/mm, {} rpm", gains.0, gains.1, a.rpm),
         "frequency [Hz]",
-        "log10 |G| [m/N]",
+        "|G| [um/N]",
         &[
             curve("open xx (= yy)", &|r| r.open[0].norm()),
             curve("closed xx", &|r| r.closed[0].norm()),
