@@ -49,6 +49,14 @@ pub const DECOMPOSED_PLANT_FMUS: [&str; 4] =
 /// `packaging/scenarios/ForceControl.ssd`: the `SystemStructure.ssd` of `ForceControl.ssp`.
 pub const FORCE_CONTROL_SSD: &str = include_str!("../scenarios/ForceControl.ssd");
 
+/// Seed 002's spindle in closed loop (`packaging/scenarios/Spindle.ssd`, shipped as
+/// `Spindle.ssp`): MillingProcess (power law, full immersion, 4 teeth) + SpindleStructure +
+/// LinearController with the printed §6.1 gains.
+pub const SPINDLE_SSD: &str = include_str!("../scenarios/Spindle.ssd");
+
+/// The FMUs of [`SPINDLE_SSD`].
+pub const SPINDLE_FMUS: [&str; 3] = ["MillingProcess.fmu", "SpindleStructure.fmu", "LinearController.fmu"];
+
 /// One FMU product of the project.
 pub struct Product {
     /// Cargo package of the cdylib.
@@ -62,7 +70,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 7] = [
+pub const PRODUCTS: [Product; 9] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -104,6 +112,18 @@ pub const PRODUCTS: [Product; 7] = [
         dir: "fmu-froh-mrac/cdylib",
         description: fmu_froh_mrac::FrohMracController::description,
         documentation: fmu_froh_mrac::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-spindle-cdylib",
+        dir: "fmu-spindle/cdylib",
+        description: fmu_spindle::SpindleStructure::description,
+        documentation: fmu_spindle::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-linear-controller-cdylib",
+        dir: "fmu-linear-controller/cdylib",
+        description: fmu_linear_controller::LinearController::description,
+        documentation: fmu_linear_controller::DOCUMENTATION,
     },
 ];
 
@@ -281,6 +301,9 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     let ssp = dir.join("DecomposedPlant.ssp");
     ssp::write_ssp_archive(&ssp, DECOMPOSED_PLANT_SSD, &in_ssd(DECOMPOSED_PLANT_SSD))?;
     written.push(ssp);
+    let ssp = dir.join("Spindle.ssp");
+    ssp::write_ssp_archive(&ssp, SPINDLE_SSD, &in_ssd(SPINDLE_SSD))?;
+    written.push(ssp);
     Ok(written)
 }
 
@@ -322,9 +345,98 @@ pub fn table2_ssd() -> Result<String> {
     ));
     Ok(sys.to_xml()?)
 }
+
+/// The parameter bindings of [`SPINDLE_SSD`], by component: every value that differs from the
+/// FMU's start value, from seed 002's parameter sets (Table I, §6.1): the process with the
+/// power law (x_F = 1), K_t = 462, K_r = 38.6 N/mm² in SI, full immersion (0, π), 4 teeth,
+/// a_p = 1 mm, 37000 rpm, f_z = 0.2 mm; the controller with `D_c = [[k₁, −k₂], [k₂, k₁]]`,
+/// k₁ = 697.1599, k₂ = −1071.058 N/mm in N/m, β = 1, τ from the speed.
+pub fn spindle_bindings() -> Result<Vec<(&'static str, Vec<ssp::Parameter>)>> {
+    use milling_process::{ForceLaw, ProcessInputs, ProcessParams};
+    use model_description::Value;
+    type Pairs = Vec<(String, Value)>;
+    // the assignments that differ from the start values, as SSP parameters of the FMU `md`
+    let changed = |md: &ModelDescription, now: Pairs, base: Pairs| -> Result<Vec<ssp::Parameter>> {
+        let mut out = Vec::new();
+        for ((name, value), (_, start)) in now.into_iter().zip(base) {
+            if value == start {
+                continue;
+            }
+            let var = md.variable(&name).with_context(|| format!("{name}: not a variable"))?;
+            let value = match (&var.kind, value) {
+                (VarKind::Enumeration(e), Value::Integer(i)) => {
+                    let items = md.enumeration_items(&e.declared_type);
+                    let item = items.iter().find(|(_, v)| *v == i).with_context(|| format!("{name} = {i}: no item"))?;
+                    ssp::ParamValue::Enumeration(item.0.clone())
+                }
+                (_, Value::Real(x)) => ssp::ParamValue::Real(x, None),
+                (_, Value::Integer(i)) => ssp::ParamValue::Integer(i),
+                (_, Value::Boolean(b)) => ssp::ParamValue::Boolean(b),
+                (_, Value::String(s)) => ssp::ParamValue::String(s),
+            };
+            out.push(ssp::Parameter { name, value });
+        }
+        Ok(out)
+    };
+    let mut p = ProcessParams {
+        explicit_angles: true,
+        entry_angle: 0.0,
+        exit_angle: std::f64::consts::PI,
+        axial_depth: 1e-3,
+        ..Default::default()
+    };
+    p.coefficients.law = ForceLaw::Power;
+    p.coefficients.exponent = 1.0;
+    p.coefficients.kt = 462e6;
+    p.coefficients.kr = 38.6e6;
+    let md = fmu_process::MillingProcess::description();
+    let mut process =
+        changed(md, fmu_process::parameter_assignments(&p), fmu_process::parameter_assignments(&Default::default()))?;
+    let inputs = ProcessInputs { spindle_speed_rpm: 37_000.0, feed_per_tooth: 0.2e-3, ..Default::default() };
+    let t = &fmu_process::TABLE;
+    process.extend(changed(md, t.input_assignments(&inputs), t.input_assignments(&Default::default()))?);
+    let (k1, k2) = (697.1599e3, -1071.058e3);
+    let c = linear_control::LinearControlParams { dc: [[k1, -k2], [k2, k1]], ..Default::default() };
+    let controller = changed(
+        fmu_linear_controller::LinearController::description(),
+        fmu_linear_controller::parameter_assignments(&c),
+        fmu_linear_controller::parameter_assignments(&Default::default()),
+    )?;
+    Ok(vec![("process", process), ("spindle", Vec::new()), ("controller", controller)])
+}
+
 #[cfg(test)]
 mod tests {
     use ssp::{ConnectorKind, SystemDescription};
+
+    /// Spindle.ssd is canonical, names only shipped FMUs, and binds exactly
+    /// [`crate::spindle_bindings`] (the seed's values, from the adapters' own names).
+    #[test]
+    fn the_embedded_spindle_system_is_canonical_and_binds_the_seed() {
+        let d = SystemDescription::from_xml(crate::SPINDLE_SSD, "Spindle.ssd", None).unwrap();
+        let mut want = d.clone();
+        for (name, params) in crate::spindle_bindings().unwrap() {
+            let c = want.component_mut(name).unwrap();
+            c.parameters = params;
+        }
+        if std::env::var_os("WRITE_SPINDLE_SSD").is_some() {
+            std::fs::write(crate::workspace_root().join("packaging/scenarios/Spindle.ssd"), want.to_xml().unwrap())
+                .unwrap();
+        }
+        assert_eq!(d, want, "Spindle.ssd does not bind the seed's values");
+        assert_eq!(d.to_xml().unwrap(), crate::SPINDLE_SSD, "Spindle.ssd is not canonical");
+        for c in &d.components {
+            let file = c.source.strip_prefix("resources/").unwrap();
+            assert!(crate::SPINDLE_FMUS.contains(&file), "{file}");
+        }
+        assert_eq!(d.connections.len(), 8);
+        for c in &d.connections {
+            let s = d.component(c.start_element.as_deref().unwrap()).unwrap();
+            let e = d.component(c.end_element.as_deref().unwrap()).unwrap();
+            assert!(s.connectors.iter().any(|x| x.name == c.start_connector && x.kind == ConnectorKind::Output));
+            assert!(e.connectors.iter().any(|x| x.name == c.end_connector && x.kind == ConnectorKind::Input));
+        }
+    }
 
     /// The decomposed plant's SSD is canonical, names only shipped FMUs, and connects every
     /// connection end to a declared connector of the right kind.

@@ -99,6 +99,7 @@ pub mod robustness_cases;
 pub mod scenario;
 pub mod sd_lobes;
 pub mod sd_validation;
+pub mod seed002;
 pub mod sweeps;
 pub mod table8;
 pub mod tuning;

@@ -38,6 +38,7 @@ mod main_job;
 mod map;
 mod robustness;
 mod sd_lobes;
+mod spindle;
 mod sweep;
 mod tables;
 mod tune;
@@ -81,6 +82,9 @@ enum Cmd {
     Lobes(lobes::LobesArgs),
     /// Semi-discretisation lobes (time-periodic, multi-DOF, Hopf/flip): seed 000 plant or a seed 002 preset.
     SdLobes(sd_lobes::SdLobesArgs),
+    /// Seed 002's spindle on the FMUs: closed-loop tool FRFs, growth/decay of Spindle.ssp around the SD boundary.
+    #[command(subcommand)]
+    Spindle(spindle::SpindleCmd),
     /// PSO tuning (N runs per structure); best gains as JSON and CSV, Table A1 statistics.
     Tune(tune::TuneArgs),
     /// Table 6 (seed plant, open and closed loop) and the Table 8 uncontrolled row (Ozsoy plant).
@@ -119,6 +123,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::AfracGa(a) => afrac::afrac_ga(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
+        Cmd::Spindle(c) => spindle::spindle(c),
         Cmd::Tune(a) => tune::tune(a),
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),

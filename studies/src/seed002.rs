@@ -1,0 +1,208 @@
+//! Seed 002 end to end on the FMUs (`Spindle.ssp`: MillingProcess + SpindleStructure +
+//! LinearController) and the closed-loop tool FRFs. The lobes themselves are
+//! [`crate::sd_lobes`] (presets `seed002-6.1`, `-6.1-closed`, `-6.2`) and the exact boundary
+//! [`delay_stability::exact`]; this module adds what needs the new spindle and controller.
+//!
+//! **Time domain.** [`SpindleCheck::growth_ratio`] runs the shipped system in the Rust master
+//! at a speed and depth, the controller's `D_c` set from `(k₁, k₂)` \[N/mm\] (or zero: open
+//! loop), and measures the regenerative difference `d(t) = v_t(t) − v_t(t − τ)` (both axes,
+//! Euclidean norm) of the recorded tool displacement: peak over the last fifth / peak over the
+//! second fifth, as [`crate::sd_validation`] does for the seed 000 plant. The forced τ-periodic
+//! motion cancels in `d`; below 1 the cut is stable.
+//!
+//! **Closed-loop tool FRF** ([`tool_frf`]): `G_tt,c(iω) = C_t (iωI − A − B_a K(iω) C_a)⁻¹ B_t`
+//! with `K(iω)` the controller's response including the Pyragas factor `1 − β e^{−iωτ}`, taken
+//! from `LinearController.fmu`'s own code path ([`fmu_linear_controller::frequency_response`])
+//! and the spindle matrices from the spindle core ([`spindle_structure`]).
+
+use crate::StudyError;
+use crate::validation::GrowthWindows;
+use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
+use linear_control::LinearControlParams;
+use model_description::Value;
+use num_complex::Complex64;
+use spindle_structure::{Spindle, SpindleParams};
+use std::collections::VecDeque;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// `Spindle.ssp` in `fmu_dir` if it exists, else the shipped SSD with the FMUs of `fmu_dir`.
+pub fn spindle_system(fmu_dir: &Path) -> Result<SystemFile, StudyError> {
+    let ssp = fmu_dir.join("Spindle.ssp");
+    if ssp.exists() {
+        Ok(SystemFile::open(&ssp, Some(fmu_dir))?)
+    } else {
+        Ok(SystemFile::from_text(packaging::SPINDLE_SSD, "Spindle.ssd", fmu_dir)?)
+    }
+}
+
+/// The controller parameters of a static gain `D_c = [[k₁, −k₂], [k₂, k₁]]` (gains in N/mm,
+/// β = 1, τ from the speed); `None` is the open loop (zero gain).
+pub fn static_gain(gains: Option<(f64, f64)>) -> LinearControlParams {
+    let mut p = LinearControlParams::default();
+    if let Some((k1, k2)) = gains {
+        p.dc = [[k1 * 1e3, -k2 * 1e3], [k2 * 1e3, k1 * 1e3]];
+    }
+    p
+}
+
+/// `|v_t(t) − v_t(t − τ)|` of the recorded tool displacement into [`GrowthWindows`].
+struct Regen {
+    windows: GrowthWindows,
+    lag: f64,
+    past: VecDeque<[f64; 2]>,
+}
+
+impl Observer for Regen {
+    fn start(&mut self, _names: &[String]) -> Result<(), SimError> {
+        Ok(())
+    }
+    fn sample(&mut self, _t: f64, values: &[f64]) -> Result<(), SimError> {
+        let x = [values[0], values[1]];
+        let q = self.lag.floor() as usize;
+        let frac = self.lag - q as f64;
+        self.past.push_front(x);
+        self.past.truncate(q + 2);
+        let at = |k: usize, i: usize| self.past.get(k).map_or(0.0, |v| v[i]);
+        let d = |i: usize| x[i] - ((1.0 - frac) * at(q, i) + frac * at(q + 1, i));
+        self.windows.push(d(0).hypot(d(1)));
+        Ok(())
+    }
+    fn finish(&mut self) -> Result<(), SimError> {
+        Ok(())
+    }
+}
+
+/// The shipped spindle system set up for growth/decay runs.
+pub struct SpindleCheck<'a> {
+    sys: &'a SystemFile,
+    /// Communication step \[s\] (default 1 µs).
+    pub step: f64,
+}
+
+impl<'a> SpindleCheck<'a> {
+    /// The check on `sys` (the shipped `Spindle.ssp`/`.ssd`: components `process`, `spindle`,
+    /// `controller`).
+    pub fn new(sys: &'a SystemFile) -> Self {
+        SpindleCheck { sys, step: 1e-6 }
+    }
+
+    /// The typed overrides of one run: depth and speed of the process, the speed and the
+    /// parameters `c` of the controller.
+    pub fn overrides(&self, rpm: f64, depth: f64, c: &LinearControlParams) -> Vec<Override> {
+        let mut o = vec![
+            Override::typed("process.axial_depth", Value::Real(depth)),
+            Override::typed("process.spindle_speed", Value::Real(rpm)),
+            Override::typed("controller.spindle_speed", Value::Real(rpm)),
+        ];
+        o.extend(crate::fmu_params::overrides_of("controller", fmu_linear_controller::parameter_assignments(c)));
+        o
+    }
+
+    /// Late / mid peak of `|v_t(t) − v_t(t − τ)|` over `duration` (module docs).
+    pub fn growth_ratio(
+        &self,
+        rpm: f64,
+        depth: f64,
+        c: &LinearControlParams,
+        duration: f64,
+    ) -> Result<f64, StudyError> {
+        if !(rpm > 0.0 && depth >= 0.0 && duration > 0.0 && self.step > 0.0) {
+            return Err(StudyError::Invalid(format!(
+                "need rpm > 0, depth >= 0, duration > 0 (got {rpm}, {depth}, {duration})"
+            )));
+        }
+        let cfg = RunConfig {
+            start: Some(0.0),
+            stop: Some(duration),
+            step: Some(self.step),
+            overrides: self.overrides(rpm, depth, c),
+            record: Some(vec!["spindle.tool_x".into(), "spindle.tool_y".into()]),
+            ..RunConfig::default()
+        };
+        let mut sim = Simulation::new(self.sys, &cfg)?;
+        let n = usize::try_from(sim.n_steps() + 1).unwrap_or(usize::MAX);
+        let tau = 60.0 / (c.teeth as f64 * rpm);
+        let mut obs = Regen { windows: GrowthWindows::new(n), lag: tau / self.step, past: VecDeque::new() };
+        match sim.run(&mut obs, Progress::Off) {
+            // the spindle stops with an error when a displacement passes 1 m: grown without bound
+            Err(SimError::Fmu(_)) if obs.windows.max > 1e-3 => Ok(f64::INFINITY),
+            Err(e) => Err(e.into()),
+            Ok(_) => Ok(obs.windows.ratio()),
+        }
+    }
+}
+
+/// One row of [`tool_frf`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrfRow {
+    /// Frequency \[Hz\].
+    pub hz: f64,
+    /// Open-loop `G_tt` (x→x, y→y) \[m/N\].
+    pub open: [Complex64; 2],
+    /// Closed-loop `G_tt,c` (x→x, y→y) \[m/N\].
+    pub closed: [Complex64; 2],
+}
+
+/// Open- and closed-loop tool FRFs of Table I's spindle with controller `c` at spindle speed
+/// `rpm` (module docs) on the frequencies `hz`.
+pub fn tool_frf(c: &LinearControlParams, rpm: f64, hz: &[f64]) -> Result<Vec<FrfRow>, StudyError> {
+    let s = Spindle::new(&SpindleParams::default()).map_err(|e| StudyError::Invalid(e.to_string()))?;
+    let (a, b) = s.matrices();
+    let st = SpindleParams::default().structure();
+    let tau = 60.0 / (c.teeth as f64 * rpm);
+    let n = a.nrows();
+    let mut rows = Vec::with_capacity(hz.len());
+    for &f in hz {
+        let w = 2.0 * std::f64::consts::PI * f;
+        let k = fmu_linear_controller::frequency_response(c, w, tau).map_err(StudyError::Invalid)?;
+        let kc = nalgebra::DMatrix::from_fn(2, 2, |i, j| k[i][j]);
+        let ba = st.ba.map(Complex64::from);
+        let ca = st.ca.map(Complex64::from);
+        let loop_ = &ba * &kc * &ca;
+        let m = |with: bool| {
+            nalgebra::DMatrix::from_fn(n, n, |i, j| {
+                let d = if i == j { Complex64::new(0.0, w) } else { Complex64::new(0.0, 0.0) };
+                d - a[(i, j)] - if with { loop_[(i, j)] } else { Complex64::new(0.0, 0.0) }
+            })
+        };
+        let bt = nalgebra::DMatrix::from_fn(n, 2, |i, j| Complex64::from(b[(i, j)]));
+        let ct = st.ct.map(Complex64::from);
+        let solve = |with: bool| -> Result<[Complex64; 2], StudyError> {
+            let x = m(with).lu().solve(&bt).ok_or_else(|| StudyError::Invalid(format!("singular at {f} Hz")))?;
+            let g = &ct * x;
+            Ok([g[(0, 0)], g[(1, 1)]])
+        };
+        rows.push(FrfRow { hz: f, open: solve(false)?, closed: solve(true)? });
+    }
+    Ok(rows)
+}
+
+/// The CSV of [`tool_frf`]: `hz, |G_xx| open, |G_xx| closed, |G_yy| open, |G_yy| closed` \[m/N\]
+/// and the phases \[rad\].
+pub fn frf_csv(rows: &[FrfRow]) -> String {
+    let mut s = String::from(
+        "hz,open_xx_abs,closed_xx_abs,open_yy_abs,closed_yy_abs,open_xx_arg,closed_xx_arg,open_yy_arg,closed_yy_arg\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{:.3},{:.6e},{:.6e},{:.6e},{:.6e},{:.6},{:.6},{:.6},{:.6}",
+            r.hz,
+            r.open[0].norm(),
+            r.closed[0].norm(),
+            r.open[1].norm(),
+            r.closed[1].norm(),
+            r.open[0].arg(),
+            r.closed[0].arg(),
+            r.open[1].arg(),
+            r.closed[1].arg()
+        );
+    }
+    s
+}
+
+/// The frequency of the largest closed-loop `|G_xx|` among `rows` \[Hz\].
+pub fn closed_peak(rows: &[FrfRow]) -> Option<f64> {
+    rows.iter().max_by(|a, b| a.closed[0].norm().total_cmp(&b.closed[0].norm())).map(|r| r.hz)
+}
