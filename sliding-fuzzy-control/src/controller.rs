@@ -386,13 +386,15 @@ pub struct SlidingFuzzy {
     p: SlidingFuzzyParams,
     ch: [Channel; 2],
     samples: u64,
+    /// Time of sample 0 (the first communication point), once known.
+    t0: Option<f64>,
 }
 
 impl SlidingFuzzy {
     /// A controller at rest.
     pub fn new(p: &SlidingFuzzyParams) -> Result<Self, SlidingFuzzyError> {
         p.validate()?;
-        Ok(SlidingFuzzy { p: p.clone(), ch: [Channel::new(p, 0), Channel::new(p, 1)], samples: 0 })
+        Ok(SlidingFuzzy { p: p.clone(), ch: [Channel::new(p, 0), Channel::new(p, 1)], samples: 0, t0: None })
     }
 
     /// The parameters.
@@ -427,6 +429,38 @@ impl SlidingFuzzy {
         Ok(self.outputs())
     }
 
+    /// Advance the sample clock over the communication step `[t, t + h)`: every sample instant
+    /// `t_k = t₀ + kT` in it (`t₀`: the first `t` seen) samples `pos`, `vel` (the inputs at the
+    /// step start). With `h = T` each step takes exactly one sample at its start.
+    pub fn step(
+        &mut self,
+        t: f64,
+        h: f64,
+        pos: [f64; 2],
+        vel: [f64; 2],
+    ) -> Result<ControllerOutputs, SlidingFuzzyError> {
+        if !(t.is_finite() && h.is_finite() && h > 0.0) {
+            return Err(SlidingFuzzyError::Input(format!("communication step [{t}, {t} + {h})")));
+        }
+        let ts = self.p.sample_period;
+        let t0 = *self.t0.get_or_insert(t);
+        // the sample instants due in [t, t + h): at most h/T + 1 for a consistent clock
+        let due = ((t + h - 1e-9 * ts - t0) / ts).ceil() - self.samples as f64;
+        if !(due <= h / ts + 2.0) {
+            return Err(SlidingFuzzyError::State(format!(
+                "sample clock inconsistent: {due} samples due in a step of {h} s (T = {ts} s)"
+            )));
+        }
+        let saved = self.clone();
+        while t0 + self.samples as f64 * ts < t + h - 1e-9 * ts {
+            if let Err(e) = self.sample(pos, vel) {
+                *self = saved;
+                return Err(e);
+            }
+        }
+        Ok(self.outputs())
+    }
+
     /// The outputs of the last sample.
     pub fn outputs(&self) -> ControllerOutputs {
         let f = |i: usize| [self.ch[0].last[i], self.ch[1].last[i]];
@@ -442,7 +476,30 @@ impl SlidingFuzzy {
 
     /// Every stored number finite.
     pub fn validate_state(&self) -> Result<(), String> {
-        if self.ch.iter().all(Channel::finite) { Ok(()) } else { Err("non-finite controller state".into()) }
+        self.p.validate().map_err(|e| e.to_string())?;
+        if !self.ch.iter().all(Channel::finite) || self.t0.is_some_and(|t| !t.is_finite()) {
+            return Err("non-finite controller state".into());
+        }
+        let want = |m: ControlMode| self.p.mode == m;
+        for c in &self.ch {
+            let ok = match &c.comp {
+                Compensator::None => !want(ControlMode::DsmcT1) && !want(ControlMode::DsmcT2),
+                Compensator::T1(a, b) => want(ControlMode::DsmcT1) && a.w.len() == 9 && b.w.len() == 6,
+                Compensator::T2(a, b) => {
+                    want(ControlMode::DsmcT2)
+                        && a.wl.len() == 6
+                        && a.wr.len() == 6
+                        && b.wl.len() == 4
+                        && b.wr.len() == 4
+                        && a.ratio.to_bits() == self.p.fou_ratio.to_bits()
+                        && b.ratio.to_bits() == self.p.fou_ratio.to_bits()
+                }
+            };
+            if !ok {
+                return Err("fuzzy rule base inconsistent with the mode".into());
+            }
+        }
+        Ok(())
     }
 }
 

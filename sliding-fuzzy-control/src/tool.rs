@@ -371,6 +371,15 @@ impl ToolPlant {
 
     /// Every stored number finite and the delay line consistent with the parameters.
     pub fn validate_state(&self) -> Result<(), String> {
+        let expect = (self.p.delay() / self.p.max_step - 1e-9).ceil().max(1.0) as usize;
+        let dt = self.p.delay() / expect as f64;
+        if self.n_delay != expect || dt.to_bits() != self.dt.to_bits() {
+            return Err("integration grid inconsistent with the parameters".into());
+        }
+        let (cx, cy) = self.p.force_coefficients();
+        if cx.iter().chain(&cy).zip(self.cx.iter().chain(&self.cy)).any(|(a, b)| a.to_bits() != b.to_bits()) {
+            return Err("cutting coefficients inconsistent with the parameters".into());
+        }
         if self.ring.len() != self.n_delay || self.head >= self.n_delay {
             return Err("delay line inconsistent with the parameters".into());
         }
