@@ -49,6 +49,10 @@ pub const DECOMPOSED_PLANT_FMUS: [&str; 4] =
 /// `packaging/scenarios/ForceControl.ssd`: the `SystemStructure.ssd` of `ForceControl.ssp`.
 pub const FORCE_CONTROL_SSD: &str = include_str!("../scenarios/ForceControl.ssd");
 
+/// Seed 003's closed loop (ToolXyPlant + SlidingModeFuzzyController),
+/// `packaging/scenarios/SlidingModeFuzzy.ssd`: the `SystemStructure.ssd` of `SlidingModeFuzzy.ssp`.
+pub const SLIDING_MODE_FUZZY_SSD: &str = include_str!("../scenarios/SlidingModeFuzzy.ssd");
+
 /// One FMU product of the project.
 pub struct Product {
     /// Cargo package of the cdylib.
@@ -62,7 +66,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 7] = [
+pub const PRODUCTS: [Product; 9] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -104,6 +108,18 @@ pub const PRODUCTS: [Product; 7] = [
         dir: "fmu-froh-mrac/cdylib",
         description: fmu_froh_mrac::FrohMracController::description,
         documentation: fmu_froh_mrac::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-tool-xy-cdylib",
+        dir: "fmu-tool-xy/cdylib",
+        description: fmu_tool_xy::ToolXyPlant::description,
+        documentation: fmu_tool_xy::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-sliding-fuzzy-cdylib",
+        dir: "fmu-sliding-fuzzy/cdylib",
+        description: fmu_sliding_fuzzy::SlidingModeFuzzyController::description,
+        documentation: fmu_sliding_fuzzy::DOCUMENTATION,
     },
 ];
 
@@ -271,6 +287,9 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     let ssp = dir.join("ForceControl.ssp");
     ssp::write_ssp_archive(&ssp, FORCE_CONTROL_SSD, &in_ssd(FORCE_CONTROL_SSD))?;
     written.push(ssp);
+    let ssp = dir.join("SlidingModeFuzzy.ssp");
+    ssp::write_ssp_archive(&ssp, SLIDING_MODE_FUZZY_SSD, &in_ssd(SLIDING_MODE_FUZZY_SSD))?;
+    written.push(ssp);
     let ssp = dir.join("ClosedLoop.ssp");
     let refs = in_ssd(CLOSED_LOOP_SSD);
     ssp::write_ssp_archive(&ssp, CLOSED_LOOP_SSD, &refs)?;
@@ -376,6 +395,28 @@ mod tests {
         let dir = target.join("ssd-test");
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("ClosedLoop.ssd"), crate::CLOSED_LOOP_SSD).unwrap();
+    }
+
+    /// `SlidingModeFuzzy.ssd` (seed 003) is canonical, binds the forcing, and steps the
+    /// controller's sample period.
+    #[test]
+    fn the_sliding_mode_fuzzy_system_is_canonical_and_steps_the_sample_period() {
+        let d = SystemDescription::from_xml(crate::SLIDING_MODE_FUZZY_SSD, "SlidingModeFuzzy.ssd", None).unwrap();
+        let canonical = d.to_xml().unwrap();
+        if canonical != crate::SLIDING_MODE_FUZZY_SSD {
+            let out = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/SlidingModeFuzzy.canonical.ssd");
+            std::fs::write(&out, &canonical).unwrap();
+            panic!("SlidingModeFuzzy.ssd is not canonical (canonical form written to {})", out.display());
+        }
+        assert_eq!(d.components.len(), 2);
+        assert_eq!(d.connections.len(), 6, "x, y, vx, vy to the controller; u_x, u_y to the plant");
+        let plant = d.components.iter().find(|c| c.name == "plant").unwrap();
+        assert_eq!(plant.parameters.len(), 2, "the calibrated forcing amplitudes");
+        let ts = fmu_sliding_fuzzy::TABLE.read_parameters(&fmi2_export::Values::from_description(
+            <fmu_sliding_fuzzy::SlidingModeFuzzyController as fmi2_export::Fmi2Model>::description(),
+        ));
+        let ts = ts.unwrap().sample_period;
+        assert!((ts / d.master.step_size.unwrap() - 1.0).abs() < 1e-12);
     }
 
     /// `ForceControl.ssd` (seed 004) is canonical, and its step is an integer fraction of the

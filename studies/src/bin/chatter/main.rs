@@ -11,6 +11,7 @@
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
 //! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
+//! chatter dsmc [--quick] [--ts 1e-4] [--sigma 0.17] [--u-max 2000] [--out dsmc-out]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
 //! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
 //! chatter run DIR [--shard I/N | --index K | --case ID,.. | --slurm-array]
@@ -29,6 +30,7 @@ mod check;
 mod common;
 mod decomposed;
 mod depth_study;
+mod dsmc;
 mod froh;
 mod lobes;
 mod main_job;
@@ -60,6 +62,8 @@ enum Cmd {
     Decomposed(decomposed::DecomposedArgs),
     /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
     DepthStudy(depth_study::DepthStudyArgs),
+    /// Seed 003: Table 2 (none, DSMC, D-PID, DSMC-T1, DSMC-T2) on the two-axis tool with the cubic law and the damper.
+    Dsmc(dsmc::DsmcArgs),
     /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
     Froh(froh::FrohArgs),
     /// Seed 000 Table 7 and Figures 11-13: the robustness sample (19 points x 2 noise seeds), through the FMUs.
@@ -108,6 +112,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Decomposed(a) => decomposed::decomposed(a),
         Cmd::DepthStudy(a) => depth_study::depth_study(a),
         Cmd::Froh(a) => froh::froh(a),
+        Cmd::Dsmc(a) => dsmc::dsmc(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
         Cmd::Tune(a) => tune::tune(a),
