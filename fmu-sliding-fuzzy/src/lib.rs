@@ -98,6 +98,8 @@ pub static TABLE: LazyLock<Table<SlidingFuzzyParams, FuzzyInputs, ControllerOutp
             }
         },
     )
+    // what a step costs, as `internal_steps` counts it: for masters, in modelDescription.xml
+    .work_bound("Ts", 1.0)
 });
 
 /// The FMU's parameters holding `p`, as (variable name, value) pairs.
@@ -179,6 +181,11 @@ mod tests {
     #[test]
     fn the_xml_holds_exactly_the_table() {
         checks::description_matches_table::<SlidingModeFuzzyController>().unwrap();
+    }
+
+    #[test]
+    fn the_declared_work_bound_is_the_models_cost() {
+        assert_eq!(checks::work_bound_matches_internal_steps::<SlidingModeFuzzyController>(), Ok(true));
     }
 
     #[test]

@@ -185,6 +185,13 @@ mod tests {
     }
 
     #[test]
+    fn no_work_bound_is_declared() {
+        // the RK4 step is τ/⌈τ/max_step⌉, not max_step itself: no "h/p + extra" bound to declare;
+        // the layer still refuses a step beyond 1e7 internal steps
+        assert_eq!(checks::work_bound_matches_internal_steps::<ToolXyPlant>(), Ok(false));
+    }
+
+    #[test]
     fn every_parameter_set_through_the_api_reaches_the_core() {
         checks::parameter_round_trips::<ToolXyPlant>(&[]).unwrap();
     }

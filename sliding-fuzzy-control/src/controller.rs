@@ -418,8 +418,9 @@ impl SlidingFuzzy {
             finite(n, v)?;
         }
         let saved = self.ch.clone();
-        for a in 0..2 {
-            self.ch[a].sample(&self.p, pos[a], vel[a]);
+        let p = &self.p;
+        for (c, (x, v)) in self.ch.iter_mut().zip(pos.into_iter().zip(vel)) {
+            c.sample(p, x, v);
         }
         if !self.ch.iter().all(Channel::finite) {
             self.ch = saved;
@@ -446,7 +447,7 @@ impl SlidingFuzzy {
         let t0 = *self.t0.get_or_insert(t);
         // the sample instants due in [t, t + h): at most h/T + 1 for a consistent clock
         let due = ((t + h - 1e-9 * ts - t0) / ts).ceil() - self.samples as f64;
-        if !(due <= h / ts + 2.0) {
+        if due.is_nan() || due > h / ts + 2.0 {
             return Err(SlidingFuzzyError::State(format!(
                 "sample clock inconsistent: {due} samples due in a step of {h} s (T = {ts} s)"
             )));
@@ -519,15 +520,14 @@ mod tests {
         for k in 0..400 {
             let o = c.sample([v[0][0], v[1][0]], [v[0][1], v[1][1]]).unwrap();
             if k >= 1 {
-                for a in 0..2 {
-                    max_s = max_s.max((o.s[a].abs() - p.sigma).max(0.0));
+                for s in o.s {
+                    max_s = max_s.max((s.abs() - p.sigma).max(0.0));
                 }
             }
-            for a in 0..2 {
-                let m = d[a];
-                let x = m.a[0][0] * v[a][0] + m.a[0][1] * v[a][1] + m.b[0] * o.u[a];
-                let y = m.a[1][0] * v[a][0] + m.a[1][1] * v[a][1] + m.b[1] * o.u[a];
-                v[a] = [x, y];
+            for ((va, m), u) in v.iter_mut().zip(&d).zip(o.u) {
+                let x = m.a[0][0] * va[0] + m.a[0][1] * va[1] + m.b[0] * u;
+                let y = m.a[1][0] * va[0] + m.a[1][1] * va[1] + m.b[1] * u;
+                *va = [x, y];
             }
         }
         assert!(max_s < 1e-9, "|s| exceeded sigma by {max_s}");

@@ -241,12 +241,10 @@ mod tests {
         let mut s = 7u64;
         let mut t1 = T1System::new(3, 2);
         let mut t2 = T2System::new(3, 2, 1.0, Reduction::ClosedForm);
-        for i in 0..6 {
-            let w = lcg(&mut s);
-            t1.w[i] = w;
-            t2.wl[i] = w;
-            t2.wr[i] = w;
-        }
+        let w0: Vec<f64> = (0..6).map(|_| lcg(&mut s)).collect();
+        t1.w.clone_from(&w0);
+        t2.wl.clone_from(&w0);
+        t2.wr = w0;
         for _ in 0..1000 {
             let z = [3.0 * lcg(&mut s), 3.0 * lcg(&mut s)];
             let p1 = t1.phi(z);
@@ -295,6 +293,6 @@ mod tests {
         assert_eq!(grid(3), (vec![-2.0, 0.0, 2.0], 1.0));
         assert_eq!(grid(2), (vec![-2.0, 2.0], 2.0));
         let f = firing(3, 2, [0.0, 2.0], 1.0);
-        assert_eq!(f[2 * 1 + 1], 1.0);
+        assert_eq!(f[3].to_bits(), 1.0f64.to_bits(), "rule (1, 1) at its centres");
     }
 }

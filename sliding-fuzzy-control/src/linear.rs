@@ -17,13 +17,7 @@ pub struct Discrete {
 }
 
 fn mul3(p: &[[f64; 3]; 3], q: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    let mut r = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            r[i][j] = (0..3).map(|l| p[i][l] * q[l][j]).sum();
-        }
-    }
-    r
+    std::array::from_fn(|i| std::array::from_fn(|j| (0..3).map(|l| p[i][l] * q[l][j]).sum()))
 }
 
 /// Exact ZOH discretisation of `m ẍ + c ẋ + k x = u` over `t` (augmented matrix exponential).
@@ -47,9 +41,9 @@ pub fn zoh(m: f64, c: f64, k: f64, t: f64) -> Discrete {
                 *x /= n as f64;
             }
         }
-        for i in 0..3 {
-            for j in 0..3 {
-                e[i][j] += term[i][j];
+        for (er, tr) in e.iter_mut().zip(&term) {
+            for (x, t) in er.iter_mut().zip(tr) {
+                *x += t;
             }
         }
     }
@@ -71,9 +65,7 @@ pub fn zoh_reference(m: f64, c: f64, k: f64, t: f64, n: usize) -> Discrete {
             let k2 = f([v[0] + 0.5 * h * k1[0], v[1] + 0.5 * h * k1[1]]);
             let k3 = f([v[0] + 0.5 * h * k2[0], v[1] + 0.5 * h * k2[1]]);
             let k4 = f([v[0] + h * k3[0], v[1] + h * k3[1]]);
-            for i in 0..2 {
-                v[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-            }
+            v = std::array::from_fn(|i| v[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
         }
         v
     };
@@ -94,14 +86,15 @@ mod tests {
             for t in [1e-4, 5e-3] {
                 let d = zoh(m, c, k, t);
                 let r = zoh_reference(m, c, k, t, 20_000);
-                let sc = [1.0, 1.0 / t];
-                for i in 0..2 {
-                    for j in 0..2 {
-                        let tol = 1e-10 * sc[i] / sc[j];
-                        assert!((d.a[i][j] - r.a[i][j]).abs() < tol, "a[{i}][{j}] {} vs {}", d.a[i][j], r.a[i][j]);
+                // scales: a[0][1] in s, a[1][0] in 1/s; b = (T²/m, T/m) in size
+                let tol = [[1e-10, 1e-10 * t], [1e-10 / t, 1e-10]];
+                for ((dr, rr), tr) in d.a.iter().zip(&r.a).zip(&tol) {
+                    for ((x, y), e) in dr.iter().zip(rr).zip(tr) {
+                        assert!((x - y).abs() < *e, "A_d entry {x} vs {y}");
                     }
-                    let bs = [t * t / m, t / m][i];
-                    assert!((d.b[i] - r.b[i]).abs() < 1e-10 * bs, "b[{i}] {} vs {}", d.b[i], r.b[i]);
+                }
+                for ((x, y), s) in d.b.iter().zip(&r.b).zip([t * t / m, t / m]) {
+                    assert!((x - y).abs() < 1e-10 * s, "B_d entry {x} vs {y}");
                 }
             }
         }

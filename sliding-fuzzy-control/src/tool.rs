@@ -418,8 +418,7 @@ mod tests {
             ..Default::default()
         };
         let mut tool = ToolPlant::new(&p).unwrap();
-        let tool2 = ToolPlant::new(&ToolParams { max_step: 0.5e-5, ..p.clone() }).unwrap();
-        let mut tool2 = tool2;
+        let mut tool2 = ToolPlant::new(&ToolParams { max_step: 0.5e-5, ..p.clone() }).unwrap();
         for _ in 0..100 {
             tool.step(1e-4, &ToolInputs { ux: 50.0, uy: -20.0 }).unwrap();
             tool2.step(1e-4, &ToolInputs { ux: 50.0, uy: -20.0 }).unwrap();
@@ -428,8 +427,7 @@ mod tests {
         // RK4: halving the step changes the result by ~1/16 of its error
         assert!((a.x - b.x).abs() < 1e-7 * a.x.abs().max(1e-6), "{} vs {}", a.x, b.x);
         assert!((a.y - b.y).abs() < 1e-7 * a.y.abs().max(1e-7), "{} vs {}", a.y, b.y);
-        // y is driven by the constant −20 N only: static part −20/k_y after decay is not yet
-        // reached at 10 ms, but the response stays bounded by 2·20/k_y
+        // y is driven by the constant −20 N only: bounded by the step response's 2·20/k_y
         assert!(a.y.abs() <= 2.0 * 20.0 / 6.48e7 * 1.01);
     }
 

@@ -23,7 +23,8 @@ fn the_shipped_system_equals_the_core_loop() {
         let r = run_short(&system(), &Short { stop, set: &sets, record: REC, order: None }).unwrap();
         let (core, _) = simulate(&tool, &SlidingFuzzyParams { mode, ..Default::default() }, stop).unwrap();
         assert_eq!(r.time.len(), core.t.len());
-        let (x, y, ux) = (r.column("plant.x").unwrap(), r.column("plant.y").unwrap(), r.column("controller.u_x").unwrap());
+        let (x, y, ux) =
+            (r.column("plant.x").unwrap(), r.column("plant.y").unwrap(), r.column("controller.u_x").unwrap());
         for j in 0..core.t.len() {
             assert!((x[j] - core.x[j]).abs() <= 1e-12 * core.x[j].abs().max(1e-9), "{mode:?} x at step {j}");
             assert!((y[j] - core.y[j]).abs() <= 1e-12 * core.y[j].abs().max(1e-9), "{mode:?} y at step {j}");
