@@ -56,6 +56,9 @@ pub const SPINDLE_SSD: &str = include_str!("../scenarios/Spindle.ssd");
 
 /// The FMUs of [`SPINDLE_SSD`].
 pub const SPINDLE_FMUS: [&str; 3] = ["MillingProcess.fmu", "SpindleStructure.fmu", "LinearController.fmu"];
+/// Seed 003's closed loop (ToolXyPlant + SlidingModeFuzzyController),
+/// `packaging/scenarios/SlidingModeFuzzy.ssd`: the `SystemStructure.ssd` of `SlidingModeFuzzy.ssp`.
+pub const SLIDING_MODE_FUZZY_SSD: &str = include_str!("../scenarios/SlidingModeFuzzy.ssd");
 
 /// One FMU product of the project.
 pub struct Product {
@@ -70,7 +73,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 9] = [
+pub const PRODUCTS: [Product; 11] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -124,6 +127,18 @@ pub const PRODUCTS: [Product; 9] = [
         dir: "fmu-linear-controller/cdylib",
         description: fmu_linear_controller::LinearController::description,
         documentation: fmu_linear_controller::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-tool-xy-cdylib",
+        dir: "fmu-tool-xy/cdylib",
+        description: fmu_tool_xy::ToolXyPlant::description,
+        documentation: fmu_tool_xy::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-sliding-fuzzy-cdylib",
+        dir: "fmu-sliding-fuzzy/cdylib",
+        description: fmu_sliding_fuzzy::SlidingModeFuzzyController::description,
+        documentation: fmu_sliding_fuzzy::DOCUMENTATION,
     },
 ];
 
@@ -290,6 +305,9 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     };
     let ssp = dir.join("ForceControl.ssp");
     ssp::write_ssp_archive(&ssp, FORCE_CONTROL_SSD, &in_ssd(FORCE_CONTROL_SSD))?;
+    written.push(ssp);
+    let ssp = dir.join("SlidingModeFuzzy.ssp");
+    ssp::write_ssp_archive(&ssp, SLIDING_MODE_FUZZY_SSD, &in_ssd(SLIDING_MODE_FUZZY_SSD))?;
     written.push(ssp);
     let ssp = dir.join("ClosedLoop.ssp");
     let refs = in_ssd(CLOSED_LOOP_SSD);
@@ -488,6 +506,28 @@ mod tests {
         let dir = target.join("ssd-test");
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("ClosedLoop.ssd"), crate::CLOSED_LOOP_SSD).unwrap();
+    }
+
+    /// `SlidingModeFuzzy.ssd` (seed 003) is canonical, binds the forcing, and steps the
+    /// controller's sample period.
+    #[test]
+    fn the_sliding_mode_fuzzy_system_is_canonical_and_steps_the_sample_period() {
+        let d = SystemDescription::from_xml(crate::SLIDING_MODE_FUZZY_SSD, "SlidingModeFuzzy.ssd", None).unwrap();
+        let canonical = d.to_xml().unwrap();
+        if canonical != crate::SLIDING_MODE_FUZZY_SSD {
+            let out = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/SlidingModeFuzzy.canonical.ssd");
+            std::fs::write(&out, &canonical).unwrap();
+            panic!("SlidingModeFuzzy.ssd is not canonical (canonical form written to {})", out.display());
+        }
+        assert_eq!(d.components.len(), 2);
+        assert_eq!(d.connections.len(), 6, "x, y, vx, vy to the controller; u_x, u_y to the plant");
+        let plant = d.components.iter().find(|c| c.name == "plant").unwrap();
+        assert_eq!(plant.parameters.len(), 2, "the calibrated forcing amplitudes");
+        let ts = fmu_sliding_fuzzy::TABLE.read_parameters(&fmi2_export::Values::from_description(
+            <fmu_sliding_fuzzy::SlidingModeFuzzyController as fmi2_export::Fmi2Model>::description(),
+        ));
+        let ts = ts.unwrap().sample_period;
+        assert!((ts / d.master.step_size.unwrap() - 1.0).abs() < 1e-12);
     }
 
     /// `ForceControl.ssd` (seed 004) is canonical, and its step is an integer fraction of the

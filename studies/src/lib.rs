@@ -82,6 +82,7 @@ pub mod cases;
 pub mod closed_loop;
 pub mod decomposed;
 pub mod depth_study;
+pub mod dsmc;
 mod error;
 pub mod figures;
 pub mod fmu_params;

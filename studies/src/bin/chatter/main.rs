@@ -13,6 +13,7 @@
 //! chatter afrac [--quick] [--duration 3] [--lambda-speed L3] [--lambda-feed L2] [--out afrac-out]
 //! chatter afrac-ga [--quick] [--seed 1] [--population 20] [--generations 40] [--bumpless]
 //! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
+//! chatter dsmc [--quick] [--ts 1e-4] [--sigma 0.17] [--u-max 2000] [--out dsmc-out]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
 //! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
 //! chatter run DIR [--shard I/N | --index K | --case ID,.. | --slurm-array]
@@ -32,6 +33,7 @@ mod check;
 mod common;
 mod decomposed;
 mod depth_study;
+mod dsmc;
 mod froh;
 mod lobes;
 mod main_job;
@@ -68,6 +70,8 @@ enum Cmd {
     Afrac(afrac::AfracArgs),
     /// Seed 001 Table 4: the genetic algorithm for the switch times of the stepwise beta schedule.
     AfracGa(afrac::AfracGaArgs),
+    /// Seed 003: Table 2 (none, DSMC, D-PID, DSMC-T1, DSMC-T2) on the two-axis tool with the cubic law and the damper.
+    Dsmc(dsmc::DsmcArgs),
     /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
     Froh(froh::FrohArgs),
     /// Seed 000 Table 7 and Figures 11-13: the robustness sample (19 points x 2 noise seeds), through the FMUs.
@@ -121,6 +125,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Froh(a) => froh::froh(a),
         Cmd::Afrac(a) => afrac::afrac(a),
         Cmd::AfracGa(a) => afrac::afrac_ga(a),
+        Cmd::Dsmc(a) => dsmc::dsmc(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
         Cmd::Spindle(c) => spindle::spindle(c),
