@@ -118,7 +118,8 @@ impl LinearPart {
             m[n + k][n + INPUTS + k] = 1.0;
         }
         let x = expm(&m, size);
-        let mut d = Discrete { dim: n, e: [[0.0; MAX_DIM]; MAX_DIM], g1: [[0.0; MAX_DIM]; INPUTS], g2: [[0.0; MAX_DIM]; 2] };
+        let mut d =
+            Discrete { dim: n, e: [[0.0; MAX_DIM]; MAX_DIM], g1: [[0.0; MAX_DIM]; INPUTS], g2: [[0.0; MAX_DIM]; 2] };
         for i in 0..n {
             d.e[i][..n].copy_from_slice(&x[i][..n]);
             for k in 0..INPUTS {

@@ -36,7 +36,9 @@ fn exact_and_reference_agree_over_one_second_of_the_nominal_scenario() {
         let (rf, rs) = (rms(&fast), rms(&slow));
         let rel = (rf / rs - 1.0).abs();
         let worst = fast.iter().zip(&slow).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-        println!("{modes} mode(s), {model:?}: RMS exact {rf:.6e} reference {rs:.6e} (rel {rel:.2e}), max |dx| {worst:.2e} m");
+        println!(
+            "{modes} mode(s), {model:?}: RMS exact {rf:.6e} reference {rs:.6e} (rel {rel:.2e}), max |dx| {worst:.2e} m"
+        );
         assert!(rel < 1e-4, "{modes} modes {model:?}: tip RMS differs by {rel:.2e}");
         assert!(worst < 1e-2 * rs, "{modes} modes {model:?}: pointwise difference {worst:.2e} m");
     }
@@ -83,7 +85,8 @@ fn both_integrators_are_independent_of_the_communication_step() {
             }
             coarse.step(7e-5, &inputs).unwrap();
             let (a, b) = (fine.outputs(), coarse.outputs());
-            for (name, x, y) in [("x", a.x, b.x), ("v", a.v, b.v), ("cutting_force", a.cutting_force, b.cutting_force)] {
+            for (name, x, y) in [("x", a.x, b.x), ("v", a.v, b.v), ("cutting_force", a.cutting_force, b.cutting_force)]
+            {
                 assert_eq!(x.to_bits(), y.to_bits(), "{integrator:?}: {name} differs at step {k}");
             }
         }

@@ -100,6 +100,10 @@ impl Plant {
     /// `k_1(t) − K_w` (the drift's stiffness change) at `t`.
     fn drift_delta(&self, t: f64) -> f64 {
         let d = &self.p.disturbance;
-        if d.drift { self.modes[0].stiffness * d.drift_amplitude * (2.0 * PI * d.drift_frequency * t).sin() } else { 0.0 }
+        if d.drift {
+            self.modes[0].stiffness * d.drift_amplitude * (2.0 * PI * d.drift_frequency * t).sin()
+        } else {
+            0.0
+        }
     }
 }
