@@ -182,6 +182,9 @@ pub struct Plant {
     /// Valid until the next history sample.
     #[serde(skip)]
     last_cut: Option<LastCut>,
+    /// The last history lookup of the exact scheme: (angle bits, result); see `push_history`.
+    #[serde(skip)]
+    lookup: Option<(u64, Option<(f64, f64)>)>,
     #[serde(skip)]
     fast: Option<Box<Fast>>,
 }
@@ -224,6 +227,7 @@ impl Plant {
             out: PlantOutputs::default(),
             angles: ToothAngles::new(0.0),
             last_cut: None,
+            lookup: None,
             fast: (p.integrator == Integrator::Exact).then(|| Fast::new(p)),
         };
         plant.push_history();
@@ -367,7 +371,7 @@ impl Plant {
         if delay.is_nan() {
             let pitch = 2.0 * PI / self.p.cutting.teeth as f64;
             let t = self.time();
-            delay = self.history.at_angle(self.theta - pitch).map_or(0.0, |(ts, _)| t - ts);
+            delay = self.delayed(self.theta - pitch).map_or(0.0, |(ts, _)| t - ts);
         }
         self.refresh_outputs(inputs, delay);
         Ok(())
@@ -383,10 +387,21 @@ impl Plant {
 
     fn push_history(&mut self) {
         let s = Sample { t: self.time(), theta: self.theta, x: self.tip(), v: self.tip_velocity() };
+        let newest = self.history.newest().map_or(f64::NEG_INFINITY, |n| n.theta);
         self.history.push(s);
         self.last_cut = None;
         let pitch = 2.0 * PI / self.p.cutting.teeth as f64;
-        self.history.prune(self.theta - pitch);
+        let theta_min = self.theta - pitch;
+        self.history.prune(theta_min);
+        // the remembered lookup stays valid if the new sample was appended past it (not
+        // coalesced), pruning kept its bracket and nothing was dropped for the size bound
+        let keep = self.lookup.is_some_and(|l| {
+            let q = f64::from_bits(l.0);
+            s.theta > newest && q >= theta_min && q < newest && self.history.len() < MAX_SAMPLES
+        });
+        if !keep {
+            self.lookup = None;
+        }
     }
 
     /// One RK4 step of length `dt`; returns the delay at the end of the step.

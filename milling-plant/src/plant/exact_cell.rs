@@ -75,11 +75,10 @@ impl Plant {
         if let Some(last) = self.last_cut.filter(|l| l.key == key) {
             return last.cut;
         }
-        let dx = x - self.history.at_angle(theta - geo.pitch).map_or(0.0, |(_, xp)| xp);
-        match c.model {
-            CuttingModel::Averaged => {
-                Cut { force: c.axial_depth * c.kt * (fz * self.static_coef - self.alpha0 * dx), chip: fz }
-            }
+        let (model, apkt) = (c.model, c.axial_depth * c.kt);
+        let dx = x - self.delayed(theta - geo.pitch).map_or(0.0, |(_, xp)| xp);
+        match model {
+            CuttingModel::Averaged => Cut { force: apkt * (fz * self.static_coef - self.alpha0 * dx), chip: fz },
             CuttingModel::TimeDomain => {
                 let angle = match from {
                     Some((prev, step)) => self.angles.advance(prev, step, theta),
@@ -89,6 +88,21 @@ impl Plant {
                 Cut { force, chip }
             }
         }
+    }
+
+    /// `(t*, x(t*))` at history angle `q`, remembered for the next lookup at the same angle
+    /// (the cell's end, the outputs and the delay all look up `θ − 2π/Z` of the same instant).
+    pub(super) fn delayed(&mut self, q: f64) -> Option<(f64, f64)> {
+        if let Some((bits, r)) = self.lookup
+            && bits == q.to_bits()
+        {
+            #[cfg(test)]
+            assert_eq!(format!("{r:?}"), format!("{:?}", self.history.at_angle(q)), "stale lookup at {q}");
+            return r;
+        }
+        let r = self.history.at_angle(q);
+        self.lookup = Some((q.to_bits(), r));
+        r
     }
 
     /// The sinusoidal disturbance force at `t`.
@@ -105,5 +119,28 @@ impl Plant {
         } else {
             0.0
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{Plant, PlantInputs, PlantParams};
+
+    /// The remembered lookup is never stale (checked on every hit in test builds): cutting,
+    /// speed changes, a stop at 0 rpm and restart, communication steps on and off the grid.
+    #[test]
+    fn remembered_lookups_equal_fresh_ones() {
+        let mut plant = Plant::new(&PlantParams::default()).unwrap();
+        let mut inputs = PlantInputs::default();
+        for (k, h) in (0..6000).zip([1e-5, 2e-5, 1.5e-5, 1e-5].into_iter().cycle()) {
+            inputs.spindle_speed_rpm = match k {
+                0..2000 => 2000.0,
+                2000..2500 => 0.0,
+                2500..4000 => 1500.0 + (k % 7) as f64,
+                _ => 3000.0,
+            };
+            plant.step(h, &inputs).unwrap();
+        }
+        assert!(plant.outputs().delay > 0.0);
     }
 }
