@@ -40,6 +40,8 @@
 //! computed by scaling and squaring with a Taylor series (norm ≤ 1/2, 18 terms: truncation
 //! below 10⁻³⁰), once per step size ([`DiscreteCache`]).
 
+#![allow(clippy::needless_range_loop)] // dense matrix code: index loops say which entry is which
+
 use crate::params::PlantParams;
 
 /// Largest state dimension (three modes and the actuator).
