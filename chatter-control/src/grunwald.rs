@@ -178,7 +178,10 @@ mod tests {
         let mut fast = GrunwaldLetnikov::new(alpha, ts, l);
         let w = gl_weights(alpha, l + 1);
         let xs: Vec<f64> = (0..3000).map(|k| (0.013 * k as f64).sin() + 0.2 * (0.0021 * k as f64).cos()).collect();
-        let full = crate::fractional::reference::full_memory_gl(alpha, ts, &xs[..=l]);
+        // full memory (every past sample, O(n²)) over the first L + 1 samples
+        let wf = gl_weights(alpha, l + 1);
+        let full: Vec<f64> =
+            (0..=l).map(|k| ts.powf(-alpha) * (0..=k).map(|j| wf[j] * xs[k - j]).sum::<f64>()).collect();
         for k in 0..xs.len() {
             let got = fast.step(xs[k]);
             let terms: Vec<f64> = (0..=l.min(k)).map(|j| w[j] * xs[k - j] * ts.powf(-alpha)).collect();
