@@ -91,6 +91,7 @@ pub static TABLE: LazyLock<Table<PlantParams, PlantInputs, PlantOutputs>> = Lazy
                 1   "cutting.enabled"                [cutting.enabled]              ""     []             "cutting force on/off";
                 3   "cutting.model"                  [enum cutting.model]           ""     []             "cutting-force model";
                 4   "cutting.milling"                [enum cutting.milling]         ""     []             "up- or down-milling";
+                5   "integrator"                     [enum integrator]              ""     []             "time integration: exact (default, fast) or reference (RK4, the slow reference)";
                 1   "cutting.teeth"                  [cutting.teeth]                ""     [1, 100]       "number of teeth Z";
                 120 "cutting.tool_radius"            [cutting.tool_radius]          "m"    [1e-6, 1.0]    "tool radius R";
                 121 "cutting.radial_engagement"      [cutting.radial_engagement]    "m"    [1e-6, 2.0]    "radial depth a_e";
@@ -185,7 +186,7 @@ impl Fmi2Model for MillingPlant {
         Ok(())
     }
 
-    /// One RK4 step per cell of `internal_step`, plus one partial step at either end.
+    /// One integrator step per cell of `internal_step`, plus one partial step at either end.
     fn internal_steps(&self, h: f64) -> f64 {
         h / self.plant.params().internal_step + 2.0
     }

@@ -19,7 +19,8 @@
 //! | module | holds |
 //! |---|---|
 //! | [`params`] | [`PlantParams`], direction convention, directional factor, receptance, actuator response |
-//! | [`plant`] | [`Plant`]: equations, RK4 on a fixed grid |
+//! | [`plant`] | [`Plant`]: equations, the fixed grid, RK4 (reference) or the exact scheme |
+//! | [`exact`] | exact discretisation of the linear dynamics (matrix exponential, φ-functions) |
 //! | [`history`] | angle-indexed displacement history for the regenerative delay |
 //! | [`noise`] | band-limited Gaussian noise on the fixed grid |
 
@@ -27,8 +28,10 @@
 pub use machine_structure::noise;
 /// The angle-indexed history lives in `milling-process` (shared with the process FMU).
 pub use milling_process::history;
+pub mod exact;
 pub mod params;
 pub mod plant;
+mod teeth;
 
-pub use params::{CuttingModel, MillingMode, Mode, PlantParams};
+pub use params::{CuttingModel, Integrator, MillingMode, Mode, PlantParams};
 pub use plant::{Plant, PlantError, PlantInputs, PlantOutputs};

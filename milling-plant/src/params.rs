@@ -84,6 +84,18 @@ model_kit::choice! {
     }
 }
 
+model_kit::choice! {
+    /// How the plant advances its state over one cell of the internal grid (see [`crate::exact`]).
+    #[derive(Serialize, Deserialize)]
+    pub enum Integrator ("Integrator", "time integration scheme of the plant") {
+        /// Linear modal + actuator dynamics exact (matrix exponential, once per step size), cutting
+        /// force, sinusoidal disturbance and drift linear in time over the cell (two force evaluations).
+        Exact = "exact", "exact linear dynamics, force linear over the cell (fast)";
+        /// Classical RK4 on every term (four force evaluations per cell): the slow reference.
+        Reference = "reference", "classical RK4, the slow reference";
+    }
+}
+
 /// Workpiece (cantilever tip) parameters.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Workpiece {
@@ -173,6 +185,8 @@ pub struct PlantParams {
     pub seed: u64,
     /// Internal integration step [s] (the noise grid).
     pub internal_step: f64,
+    /// Integration scheme (default [`Integrator::Exact`]; [`Integrator::Reference`] is RK4).
+    pub integrator: Integrator,
 }
 
 /// The seed's first mode (Table 1).
@@ -218,6 +232,7 @@ impl Default for PlantParams {
             },
             seed: 1,
             internal_step: 1e-5,
+            integrator: Integrator::Exact,
         }
     }
 }

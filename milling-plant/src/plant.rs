@@ -1,5 +1,6 @@
 //! The time-domain plant: workpiece modes, cutting force with regeneration, inertial actuator,
-//! disturbances, integrated with classical RK4 on a fixed internal grid.
+//! disturbances, integrated on a fixed internal grid by the exact scheme of [`crate::exact`]
+//! (default) or by classical RK4 (`Integrator::Reference`, the slow reference).
 //!
 //! # Equations
 //!
@@ -17,11 +18,28 @@
 //! sample of a cell is drawn when the cell is entered and held over it. A communication step
 //! that ends on the grid runs whole cells, so any two masters whose steps are multiples of
 //! the internal step see bitwise-identical trajectories. A step ending inside a cell runs a
-//! partial RK4 step to the communication point and the next step completes the cell.
+//! partial step to the communication point and the next step completes the cell.
+//!
+//! # Integrators
+//!
+//! `Integrator::Reference` evaluates everything four times per cell (RK4; it is the code path
+//! of the earlier releases, bit for bit). `Integrator::Exact` advances the linear modal and
+//! actuator dynamics exactly (one matrix exponential per step size) and takes the cutting
+//! force, the sinusoidal disturbance and the drift force as linear in time over the cell
+//! (predictor–corrector, [`crate::exact`]): the cutting force is evaluated at the cell's end
+//! only (its start is the previous end, or the outputs' evaluation), with the tooth angles by
+//! rotation recurrences, the drift factor once per cell (at its midpoint), and the history
+//! lookup in O(1). Over 1 s of the nominal scenario the two agree to about 10⁻⁶ in tip RMS
+//! (`tests/integrators.rs`).
 
+use crate::exact::MAX_DIM;
 use crate::history::{History, MAX_SAMPLES, Sample};
 use crate::noise::BandLimitedNoise;
-use crate::params::{CuttingModel, Mode, PlantParams};
+use crate::params::{CuttingModel, Integrator, Mode, PlantParams};
+use crate::teeth::ToothAngles;
+use exact_cell::{Fast, LastCut};
+
+mod exact_cell;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -109,6 +127,28 @@ impl State {
         s.z[1] += h * d.z[1];
         s
     }
+
+    /// `(q_1, q̇_1, …, q_n, q̇_n, z_1, z_2)`, the state vector of [`crate::exact`].
+    fn flat(&self, n: usize) -> [f64; MAX_DIM] {
+        let mut y = [0.0; MAX_DIM];
+        for i in 0..n {
+            y[2 * i] = self.q[i];
+            y[2 * i + 1] = self.qd[i];
+        }
+        y[2 * n] = self.z[0];
+        y[2 * n + 1] = self.z[1];
+        y
+    }
+
+    fn from_flat(y: &[f64; MAX_DIM], n: usize) -> State {
+        let mut s = State::default();
+        for i in 0..n {
+            s.q[i] = y[2 * i];
+            s.qd[i] = y[2 * i + 1];
+        }
+        s.z = [y[2 * n], y[2 * n + 1]];
+        s
+    }
 }
 
 /// Cutting force and the largest chip.
@@ -137,6 +177,16 @@ pub struct Plant {
     noise: Option<BandLimitedNoise>,
     noise_now: f64,
     out: PlantOutputs,
+    /// Tooth angles of the exact scheme (state: the recurrence continues after a restore).
+    angles: ToothAngles,
+    /// Valid until the next history sample.
+    #[serde(skip)]
+    last_cut: Option<LastCut>,
+    /// The last history lookup of the exact scheme: (angle bits, result); see `push_history`.
+    #[serde(skip)]
+    lookup: Option<(u64, Option<(f64, f64)>)>,
+    #[serde(skip)]
+    fast: Option<Box<Fast>>,
 }
 
 impl Plant {
@@ -175,6 +225,10 @@ impl Plant {
             noise,
             noise_now,
             out: PlantOutputs::default(),
+            angles: ToothAngles::new(0.0),
+            last_cut: None,
+            lookup: None,
+            fast: (p.integrator == Integrator::Exact).then(|| Fast::new(p)),
         };
         plant.push_history();
         plant.refresh_outputs(&PlantInputs::default(), 0.0);
@@ -245,6 +299,9 @@ impl Plant {
         if !(self.theta.is_finite() && self.theta >= 0.0 && self.noise_now.is_finite()) {
             return Err("the tool angle or the noise sample is not finite".into());
         }
+        if !self.angles.is_valid() {
+            return Err("the tooth-angle recurrence is not on the unit circle".into());
+        }
         let o = &self.out;
         let outs = [o.x, o.v, o.cutting_force, o.actuator_force, o.disturbance_force, o.chip_thickness, o.tool_angle];
         if !(outs.iter().all(|x| x.is_finite()) && o.delay.is_finite() && o.delay >= 0.0) {
@@ -291,7 +348,13 @@ impl Plant {
             }
             let to_cell_end = hi - self.offset;
             let (dt, completes) = if remaining >= to_cell_end - tol { (to_cell_end, true) } else { (remaining, false) };
-            delay = self.rk4(dt, omega, inputs);
+            match self.p.integrator {
+                Integrator::Reference => delay = self.rk4(dt, omega, inputs),
+                Integrator::Exact => {
+                    self.exact_cell(dt, omega, inputs);
+                    delay = f64::NAN; // looked up once, after the last cell
+                }
+            }
             if completes {
                 self.cell += 1;
                 self.offset = 0.0;
@@ -304,6 +367,11 @@ impl Plant {
             if !(x.is_finite() && x.abs() < 1.0) {
                 return Err(PlantError::Diverged { t: self.time(), x });
             }
+        }
+        if delay.is_nan() {
+            let pitch = 2.0 * PI / self.p.cutting.teeth as f64;
+            let t = self.time();
+            delay = self.delayed(self.theta - pitch).map_or(0.0, |(ts, _)| t - ts);
         }
         self.refresh_outputs(inputs, delay);
         Ok(())
@@ -319,9 +387,21 @@ impl Plant {
 
     fn push_history(&mut self) {
         let s = Sample { t: self.time(), theta: self.theta, x: self.tip(), v: self.tip_velocity() };
+        let newest = self.history.newest().map_or(f64::NEG_INFINITY, |n| n.theta);
         self.history.push(s);
+        self.last_cut = None;
         let pitch = 2.0 * PI / self.p.cutting.teeth as f64;
-        self.history.prune(self.theta - pitch);
+        let theta_min = self.theta - pitch;
+        self.history.prune(theta_min);
+        // the remembered lookup stays valid if the new sample was appended past it (not
+        // coalesced), pruning kept its bracket and nothing was dropped for the size bound
+        let keep = self.lookup.is_some_and(|l| {
+            let q = f64::from_bits(l.0);
+            s.theta > newest && q >= theta_min && q < newest && self.history.len() < MAX_SAMPLES
+        });
+        if !keep {
+            self.lookup = None;
+        }
     }
 
     /// One RK4 step of length `dt`; returns the delay at the end of the step.
@@ -433,7 +513,17 @@ impl Plant {
         let t = self.time();
         let omega = inputs.spindle_speed_rpm * 2.0 * PI / 60.0;
         let x = self.tip();
-        let cut = self.cutting(self.theta, x, omega, inputs);
+        let cut = match self.p.integrator {
+            Integrator::Reference => self.cutting(self.theta, x, omega, inputs),
+            Integrator::Exact => {
+                let fast = self.fast.take().unwrap_or_else(|| Fast::new(&self.p));
+                let cut = self.fast_cut(&fast.geo, self.theta, None, x, omega, inputs);
+                let key = [self.theta.to_bits(), x.to_bits(), inputs.feed_per_tooth.to_bits(), omega.to_bits()];
+                self.last_cut = Some(LastCut { key, cut });
+                self.fast = Some(fast);
+                cut
+            }
+        };
         let (u, saturated) = self.u_sat(inputs.u);
         self.out = PlantOutputs {
             x,

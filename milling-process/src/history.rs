@@ -5,7 +5,8 @@
 //! The delay is the time since the previous tooth passed the current tooth's angle: with the
 //! tool angle `θ(t) = ∫Ω dt`, the surface a tooth meets at `t` was left at `t*` where
 //! `θ(t*) = θ(t) − 2π/Z`. The history stores `(t, θ, x, ẋ)` at the end of every internal step;
-//! a lookup finds the bracketing samples by bisection on θ, converts the angle fraction into a
+//! a lookup finds the bracketing samples (a short scan from the oldest sample, where lookups
+//! land after pruning, then bisection on θ), converts the angle fraction into a
 //! time fraction (Ω is constant within a step, so θ is linear there) and interpolates `x` with
 //! the cubic Hermite polynomial through both samples' displacement and velocity (third order,
 //! as accurate as the RK4 integrator uses it). A sample type says how it interpolates
@@ -195,7 +196,14 @@ impl<S: HistorySample> History<S> {
         if theta < first.theta() {
             return None;
         }
-        let i = self.buf.partition_point(|s| s.theta() <= theta);
+        // The plant and the process look up θ − 2π/Z right after pruning to it, so the bracket
+        // is one of the first samples: scan those (O(1)), bisect only otherwise. Both find the
+        // first sample past `theta`, so the result is the same.
+        const SCAN: usize = 8;
+        let i = match self.buf.iter().take(SCAN).position(|s| s.theta() > theta) {
+            Some(i) => i,
+            None => self.buf.partition_point(|s| s.theta() <= theta),
+        };
         if i >= self.buf.len() {
             let last = self.buf.back()?;
             return Some((last.t(), last.value()));

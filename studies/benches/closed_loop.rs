@@ -3,7 +3,7 @@
 //!
 //! ```text
 //! cargo run --release -p packaging            # target/fmu/*.fmu, ClosedLoop.ssp
-//! cargo bench -p fmi-master --bench closed_loop
+//! cargo bench -p studies --bench closed_loop
 //! ```
 //!
 //! For each controller structure: the Rust master's steps per second
@@ -12,7 +12,8 @@
 //! steps), then the same loop in Python on FMPy's `FMU2Slave`
 //! (`tests/python/fmpy_closed_loop.py --bench`, same FMUs, same call
 //! sequence, best of 3 runs of 20 000 steps) and the ratio. Single-threaded
-//! both. Needs the venv `.venv` with FMPy (or `FMI_MASTER_VENV`); environment
+//! both. Then the Rust master's cost per step with the plant's exact integrator
+//! (default) and with its RK4 reference (`plant.integrator=reference`), and the ratio. Needs the venv `.venv` with FMPy (or `FMI_MASTER_VENV`); environment
 //! variables `BENCH_RUST_STEPS`, `BENCH_FMPY_STEPS` change the lengths.
 
 use fmi_master::{NoObserver, Progress, RunConfig, Simulation, SystemFile};
@@ -24,13 +25,21 @@ fn env_u64(name: &str, default: u64) -> u64 {
 }
 
 fn rust_steps_per_s(ssp: &Path, structure: &str, steps: u64) -> f64 {
+    rust_steps_per_s_with(ssp, structure, "exact", steps)
+}
+
+/// The Rust master's steps per second with the plant's `integrator` (`exact`, `reference`).
+fn rust_steps_per_s_with(ssp: &Path, structure: &str, integrator: &str, steps: u64) -> f64 {
     let sys = SystemFile::open(ssp, None).expect("opening ClosedLoop.ssp");
     let mut best = 0.0f64;
     for _ in 0..3 {
         let cfg = RunConfig {
             stop: Some(steps as f64 * 1e-5),
             step: Some(1e-5),
-            overrides: vec![format!("controller.structure={structure}").parse().unwrap()],
+            overrides: vec![
+                format!("controller.structure={structure}").parse().unwrap(),
+                format!("plant.integrator={integrator}").parse().unwrap(),
+            ],
             record: Some(Vec::new()),
             ..RunConfig::default()
         };
@@ -92,6 +101,16 @@ fn main() {
                 failed = true;
             }
         }
+    }
+    // the plant's exact integrator (default) against its RK4 reference, same run, same master
+    println!();
+    println!("closed loop through the C API, Rust master: plant integrator exact vs reference (best of 3 each)");
+    println!("| controller | exact [µs/step] | reference [µs/step] | ratio reference/exact |");
+    println!("|---|---|---|---|");
+    for s in ["off", "pid", "fopid", "adrc_fopid"] {
+        let fast = rust_steps_per_s_with(&ssp, s, "exact", rust_n);
+        let slow = rust_steps_per_s_with(&ssp, s, "reference", rust_n);
+        println!("| {s} | {:.3} | {:.3} | {:.2} |", 1e6 / fast, 1e6 / slow, fast / slow);
     }
     if failed {
         std::process::exit(1);

@@ -1,0 +1,62 @@
+//! The controllers' cost per sample with the default Grünwald–Letnikov memory (L = 1000),
+//! against the cost of the GL operator's contiguous-window dot product measured in the same run
+//! (interleaved, best of 5, thread CPU time): a ratio near 1 says the sample costs its two GL
+//! sums and nothing else.
+//!
+//! `cargo bench -p chatter-control --bench gl_window` (`cargo test --benches`: a short run).
+#![allow(missing_docs)]
+
+use chatter_control::grunwald::GrunwaldLetnikov;
+use chatter_control::{Controller, ControllerParams, FractionalMethod, Structure};
+use std::hint::black_box;
+
+/// CPU time of this thread [s]: on a shared machine the wall time counts other processes' turns.
+fn cpu_seconds() -> f64 {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: a valid, writable timespec; CLOCK_THREAD_CPUTIME_ID exists on Linux.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+fn ns_per<F: FnMut(f64) -> f64>(n: usize, mut f: F) -> f64 {
+    let start = cpu_seconds();
+    let mut acc = 0.0;
+    for k in 0..n {
+        acc += f(1e-7 * (0.009 * k as f64).sin());
+    }
+    black_box(acc);
+    (cpu_seconds() - start) * 1e9 / n as f64
+}
+
+fn main() {
+    let quick = !std::env::args().any(|a| a == "--bench");
+    let (n, rounds) = if quick { (2_000, 1) } else { (200_000, 5) };
+    let base = ControllerParams::default();
+    let l = base.fractional.memory_length;
+    println!(
+        "controller sample, T = 10 µs, Grünwald–Letnikov L = {l}, best of {rounds} × {n} samples, thread CPU time"
+    );
+    let mut op = GrunwaldLetnikov::new(0.15, base.ts, l);
+    let mut ctrls: Vec<(Structure, Controller)> = [Structure::Fopid, Structure::AdrcFopid]
+        .into_iter()
+        .map(|s| {
+            let mut p = ControllerParams { structure: s, ..base };
+            p.fractional.method = FractionalMethod::GrunwaldLetnikov;
+            (s, Controller::new(&p).unwrap())
+        })
+        .collect();
+    let mut op_best = f64::INFINITY;
+    let mut best = vec![f64::INFINITY; ctrls.len()];
+    for _ in 0..rounds {
+        op_best = op_best.min(ns_per(n, |y| op.step(black_box(y))));
+        for (b, (_, c)) in best.iter_mut().zip(&mut ctrls) {
+            *b = b.min(ns_per(n, |y| c.sample(black_box(y), 0.0).u));
+        }
+    }
+    println!("| what | ns per sample | ratio to two GL window sums |");
+    println!("|---|---|---|");
+    println!("| one GL operator step (window dot product, L = {l}) | {op_best:.1} | 0.50 |");
+    for (b, (s, _)) in best.iter().zip(&ctrls) {
+        println!("| {s:?} sample (two GL operators) | {b:.1} | {:.2} |", b / (2.0 * op_best));
+    }
+}
