@@ -21,7 +21,7 @@ pub mod abscissa;
 // pub mod dk;
 pub mod mu;
 pub mod optim;
-// pub mod plant;
+pub mod plant;
 
 /// Errors of the synthesis.
 #[derive(Debug, thiserror::Error, PartialEq)]
