@@ -18,7 +18,7 @@
 //! The crate is a core: plain types, `thiserror` errors, no FMI.
 
 pub mod abscissa;
-// pub mod dk;
+pub mod dk;
 pub mod mu;
 pub mod optim;
 pub mod plant;

@@ -95,6 +95,7 @@ pub mod scenario;
 pub mod sd_lobes;
 pub mod sd_validation;
 pub mod sweeps;
+pub mod synth;
 pub mod table8;
 pub mod tuning;
 pub mod validation;

@@ -10,6 +10,7 @@
 //! chatter tune   [--plant seed|ozsoy] [--structures pid,fopid,adrc_fopid] [--runs 10] [--seed 1]
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
+//! chatter synth [--case all|6.1|table2] [--max-order 4] [--quick] [--out synth-out]
 //! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
 //! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
@@ -36,6 +37,7 @@ mod map;
 mod robustness;
 mod sd_lobes;
 mod sweep;
+mod synth;
 mod tables;
 mod tune;
 mod validate;
@@ -74,6 +76,8 @@ enum Cmd {
     Lobes(lobes::LobesArgs),
     /// Semi-discretisation lobes (time-periodic, multi-DOF, Hopf/flip): seed 000 plant or a seed 002 preset.
     SdLobes(sd_lobes::SdLobesArgs),
+    /// Seed 002 robust synthesis: §6.1 and Table II (n_c = 0, 2, 4) by D-K iteration with bisection, SD box checks, SSP parameter sets.
+    Synth(synth::SynthArgs),
     /// PSO tuning (N runs per structure); best gains as JSON and CSV, Table A1 statistics.
     Tune(tune::TuneArgs),
     /// Table 6 (seed plant, open and closed loop) and the Table 8 uncontrolled row (Ozsoy plant).
@@ -110,6 +114,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Froh(a) => froh::froh(a),
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
+        Cmd::Synth(a) => synth::synth(a),
         Cmd::Tune(a) => tune::tune(a),
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),
