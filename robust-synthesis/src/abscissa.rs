@@ -234,8 +234,9 @@ mod tests {
     #[test]
     fn scalar_delay_equation_has_the_lambert_w_root() {
         // ẋ = −x(t − 1): λ = W₀(−1) = −0.318131505204764 + 1.337235701430690i
-        let sys = DelaySystem::new(DMatrix::zeros(1, 1), DMatrix::from_element(1, 1, -1.0), DMatrix::identity(1, 1), 1.0)
-            .unwrap();
+        let sys =
+            DelaySystem::new(DMatrix::zeros(1, 1), DMatrix::from_element(1, 1, -1.0), DMatrix::identity(1, 1), 1.0)
+                .unwrap();
         let r = sys.rightmost(20, 4).unwrap();
         assert!((r.lambda.re + 0.318131505204764).abs() < 1e-12, "{}", r.lambda);
         assert!((r.lambda.im - 1.337235701430690).abs() < 1e-12, "{}", r.lambda);
@@ -299,7 +300,8 @@ mod tests {
         let num = r.left.dotc(&(da1 * (-r.lambda * tau).exp() * &r.right));
         let d = num / s.sensitivity_denominator(&r);
         let h = 1.0;
-        let fd = (sys(k + h).refine(r.lambda).unwrap().lambda - sys(k - h).refine(r.lambda).unwrap().lambda) / (2.0 * h);
+        let fd =
+            (sys(k + h).refine(r.lambda).unwrap().lambda - sys(k - h).refine(r.lambda).unwrap().lambda) / (2.0 * h);
         assert!((fd - d).norm() < 1e-5 * fd.norm(), "{fd} vs {d}");
     }
 }

@@ -21,7 +21,9 @@
 //!
 //! `ā_p` is bisected on the grid `k·resolution` between a feasible lower end (0: no cut) and an
 //! upper end. Each trial depth starts from the best design found so far (warm start), so the
-//! sequence of trials (and the result) is deterministic.
+//! sequence of trials (and the result) is deterministic. A trial counts as feasible only if the
+//! design also passes [`mu_check`] on a second, finer grid (fresh scalings): a peak of `σ̄`
+//! between the design grid's points must not pass unnoticed.
 
 use crate::SynthError;
 use crate::mu::{self, CMat};
@@ -47,6 +49,8 @@ pub struct DkOptions {
     pub penalty: f64,
     /// Chebyshev intervals of the abscissa.
     pub nodes: usize,
+    /// The finer grid of the bisection's feasibility check \[Hz\] (empty: none).
+    pub check_hz: Vec<f64>,
 }
 
 impl DkOptions {
@@ -66,6 +70,7 @@ impl Default for DkOptions {
             target: 0.995,
             penalty: 100.0,
             nodes: 24,
+            check_hz: Self::grid(10.0, 12000.0, 1200),
         }
     }
 }
@@ -126,22 +131,25 @@ fn loops(
 }
 
 /// The D-step: bounds and scalings at every grid frequency.
-fn d_step(
-    ns: &[crate::plant::Loop],
-    warm: &[Vec<f64>],
-    d_iter: usize,
-) -> Vec<mu::Bound> {
+fn d_step(ns: &[crate::plant::Loop], warm: &[Vec<f64>], d_iter: usize) -> Vec<mu::Bound> {
     let s = Problem::mu_structure();
     ns.par_iter().zip(warm.par_iter()).map(|(l, w)| mu::upper_bound(&l.n, &s, Some(w), d_iter)).collect()
 }
 
 /// μ̂ of θ on the grid with fresh D-scalings from θ = 0 (the check of a finished design).
-pub fn mu_check(pr: &Problem, par: &Parameterisation, theta: &[f64], freqs_hz: &[f64], d_iter: usize) -> Result<(f64, f64), SynthError> {
+pub fn mu_check(
+    pr: &Problem,
+    par: &Parameterisation,
+    theta: &[f64],
+    freqs_hz: &[f64],
+    d_iter: usize,
+) -> Result<(f64, f64), SynthError> {
     let ps = plants(pr, freqs_hz)?;
     let ns = loops(&ps, freqs_hz, par, theta, pr.beta)?;
     let warm = vec![vec![0.0; Problem::mu_structure().params()]; ns.len()];
     let b = d_step(&ns, &warm, d_iter);
-    let (k, m) = b.iter().enumerate().map(|(k, b)| (k, b.value)).max_by(|a, b| a.1.total_cmp(&b.1)).unwrap_or((0, f64::NAN));
+    let (k, m) =
+        b.iter().enumerate().map(|(k, b)| (k, b.value)).max_by(|a, b| a.1.total_cmp(&b.1)).unwrap_or((0, f64::NAN));
     Ok((m, freqs_hz.get(k).copied().unwrap_or(f64::NAN)))
 }
 
@@ -165,11 +173,19 @@ pub fn dk(
     loop {
         let ns = loops(&ps, &o.freqs_hz, par, &theta, pr.beta)?;
         let bounds = d_step(&ns, &warm, o.d_iter);
-        let (peak, mu_hat) =
-            bounds.iter().enumerate().map(|(k, b)| (k, b.value)).max_by(|a, b| a.1.total_cmp(&b.1)).unwrap_or((0, f64::NAN));
+        let (peak, mu_hat) = bounds
+            .iter()
+            .enumerate()
+            .map(|(k, b)| (k, b.value))
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((0, f64::NAN));
         let psi = pr.abscissa(par, &theta, o.nodes).map(|r| r.0).unwrap_or(f64::INFINITY);
         let steps = history.len();
-        progress(&format!("ā_p {:.4} mm, D-K step {steps}: μ̂ {mu_hat:.4} at {:.0} Hz, Ψτ₀ {psi:.4}", pr.abar * 1e3, o.freqs_hz[peak]));
+        progress(&format!(
+            "ā_p {:.4} mm, D-K step {steps}: μ̂ {mu_hat:.4} at {:.0} Hz, Ψτ₀ {psi:.4}",
+            pr.abar * 1e3,
+            o.freqs_hz[peak]
+        ));
         let feasible = mu_hat < 1.0 && psi < 0.0;
         let stalled = history.last().is_some_and(|h: &Step| mu_hat > h.mu - 1e-3 && h.psi < 0.0 && psi < 0.0);
         if feasible || steps >= o.max_steps || stalled {
@@ -272,12 +288,20 @@ pub fn bisect(
         let mid = (lo_k + hi_k) / 2;
         let abar = mid as f64 * resolution;
         let start = best.as_ref().map_or(theta0, |b| b.outcome.theta.as_slice());
-        let out = dk(&make(abar), par, start, o, progress)?;
+        let pr = make(abar);
+        let mut out = dk(&pr, par, start, o, progress)?;
+        let mut check = (f64::NAN, f64::NAN);
+        if out.feasible && !o.check_hz.is_empty() {
+            check = mu_check(&pr, par, &out.theta, &o.check_hz, 2 * o.d_iter)?;
+            out.feasible = check.0 < 1.0;
+        }
         progress(&format!(
-            "ā_p {:.4} mm: {} (μ̂ {:.4}, {} D-K steps)",
+            "ā_p {:.4} mm: {} (μ̂ {:.4}, check grid {:.4} at {:.0} Hz, {} D-K steps)",
             abar * 1e3,
             if out.feasible { "feasible" } else { "not reached" },
             out.mu,
+            check.0,
+            check.1,
             out.steps
         ));
         let t = Trial { abar, outcome: out };

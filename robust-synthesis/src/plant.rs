@@ -305,7 +305,8 @@ impl Problem {
         g.view_mut((n, 2), (nc, nc)).fill_with_identity();
         let e = (-root.lambda * sys.tau).exp();
         let mut h = CMat::zeros(k, n + nc);
-        h.view_mut((0, 0), (2, n)).copy_from(&st.ca.map(|v| Complex64::from(v) * (Complex64::from(1.0) - e * self.beta)));
+        h.view_mut((0, 0), (2, n))
+            .copy_from(&st.ca.map(|v| Complex64::from(v) * (Complex64::from(1.0) - e * self.beta)));
         h.view_mut((2, n), (nc, nc)).fill_with_identity();
         let row = root.left.adjoint() * g.map(Complex64::from);
         let col = h * &root.right;

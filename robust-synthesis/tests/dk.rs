@@ -27,6 +27,7 @@ fn section_61_design_at_fixed_depth_reaches_mu_below_one() {
     assert!(out.feasible, "{out:?}");
     // the open loop is not a design at 2 mm (the boundary is 1.57 mm), so K moved
     assert!(out.steps >= 1);
-    let (mu, hz) = mu_check(&pr, &Parameterisation::Structured, &out.theta, &DkOptions::grid(20.0, 10000.0, 600), 100).unwrap();
+    let (mu, hz) =
+        mu_check(&pr, &Parameterisation::Structured, &out.theta, &DkOptions::grid(20.0, 10000.0, 600), 100).unwrap();
     println!("fine-grid check: μ̂ {mu} at {hz} Hz");
 }

@@ -30,7 +30,10 @@ fn eliminating_the_uncertainty_gives_the_physical_loop() {
     let c = par.controller(&theta_nc2(), 1.0);
     let (tau0, dtmax) = pr.delays();
     let st = &pr.structure;
-    for (w, dt_frac, da) in [(2.0 * std::f64::consts::PI * 1300.0, 0.7, Complex64::new(0.3, -0.4)), (2.0e4, -1.0, Complex64::new(-0.9, 0.1))] {
+    for (w, dt_frac, da) in [
+        (2.0 * std::f64::consts::PI * 1300.0, 0.7, Complex64::new(0.3, -0.4)),
+        (2.0e4, -1.0, Complex64::new(-0.9, 0.1)),
+    ] {
         let dtau = dt_frac * dtmax;
         let p = pr.generalized(w).unwrap();
         let (k, _, _) = controller_frf(&c, w).unwrap();
@@ -73,7 +76,13 @@ fn gain_gradient_matches_finite_differences() {
     let w = 2.0 * std::f64::consts::PI * 1250.0;
     let p = pr.generalized(w).unwrap();
     let d = CMat::from_fn(8, 8, |i, j| {
-        if i == j { Complex64::from(1.0 + 0.1 * i as f64) } else if i > j && i < 4 { Complex64::new(0.1, 0.05) } else { Complex64::from(0.0) }
+        if i == j {
+            Complex64::from(1.0 + 0.1 * i as f64)
+        } else if i > j && i < 4 {
+            Complex64::new(0.1, 0.05)
+        } else {
+            Complex64::from(0.0)
+        }
     });
     let dinv = d.clone().try_inverse().unwrap();
     let f = |t: &[f64]| {
@@ -88,7 +97,11 @@ fn gain_gradient_matches_finite_differences() {
         tp[k] += h;
         tm[k] -= h;
         let fd = (f(&tp).0 - f(&tm).0) / (2.0 * h);
-        assert!((fd - g[k]).abs() < 1e-5 * (1.0 + g.iter().map(|v| v.abs()).fold(0.0, f64::max)), "θ{k}: {fd} vs {}", g[k]);
+        assert!(
+            (fd - g[k]).abs() < 1e-5 * (1.0 + g.iter().map(|v| v.abs()).fold(0.0, f64::max)),
+            "θ{k}: {fd} vs {}",
+            g[k]
+        );
     }
 }
 

@@ -92,8 +92,6 @@ impl Case {
 pub struct SynthOptions {
     /// The D–K settings (frequency grid, steps, optimiser).
     pub dk: DkOptions,
-    /// Grid of the final μ check \[Hz\].
-    pub check_hz: Vec<f64>,
     /// Upper end of the ā_p bisection \[m\].
     pub hi: f64,
     /// Bisection resolution \[m\].
@@ -109,22 +107,18 @@ pub struct SynthOptions {
 impl SynthOptions {
     /// The full run.
     pub fn full(seed: u64) -> SynthOptions {
-        SynthOptions {
-            dk: DkOptions::default(),
-            check_hz: DkOptions::grid(10.0, 12000.0, 1200),
-            hi: 4.0e-3,
-            resolution: 0.025e-3,
-            sd_m: 30,
-            sd_speeds: 21,
-            seed,
-        }
+        SynthOptions { dk: DkOptions::default(), hi: 4.0e-3, resolution: 0.025e-3, sd_m: 30, sd_speeds: 21, seed }
     }
     /// A coarse run for tests (≈ a minute for §6.1 on two cores).
     pub fn quick(seed: u64) -> SynthOptions {
         SynthOptions {
-            dk: DkOptions { freqs_hz: DkOptions::grid(50.0, 6000.0, 120), max_steps: 6, ..DkOptions::default() },
-            check_hz: DkOptions::grid(20.0, 10000.0, 400),
-            hi: 2.4e-3,
+            dk: DkOptions {
+                freqs_hz: DkOptions::grid(50.0, 6000.0, 120),
+                max_steps: 6,
+                check_hz: DkOptions::grid(20.0, 10000.0, 400),
+                ..DkOptions::default()
+            },
+            hi: 3.0e-3,
             resolution: 0.3e-3,
             sd_m: 12,
             sd_speeds: 5,
@@ -216,29 +210,33 @@ pub fn initial(case: Case, previous: Option<&[f64]>, seed: u64) -> Vec<f64> {
 }
 
 /// The SD boundary of `controller` on the case's model over its speed range.
-pub fn sd_check(
-    case: Case,
-    controller: Option<&Controller>,
-    o: &SynthOptions,
-) -> Result<Vec<LobePoint>, StudyError> {
+pub fn sd_check(case: Case, controller: Option<&Controller>, o: &SynthOptions) -> Result<Vec<LobePoint>, StudyError> {
     let cutter = seed002_cutter(case.x_f()).map_err(|e| StudyError::Invalid(e.to_string()))?;
-    let model = MillingModel::new(&seed002_structure(), cutter, controller).map_err(|e| StudyError::Invalid(e.to_string()))?;
+    let model =
+        MillingModel::new(&seed002_structure(), cutter, controller).map_err(|e| StudyError::Invalid(e.to_string()))?;
     let (lo, hi) = case.rpm();
     let speeds = crate::lobes::speed_grid(lo, hi, o.sd_speeds);
     let b = BisectionOptions { m: o.sd_m, start: 0.05e-3, growth: 1.1, max: 10e-3, rel_tol: 1e-4 };
-    delay_stability::lobes(&speeds, |rpm, a| model.at(rpm, a), &b, &|_, _| {}).map_err(|e| StudyError::Invalid(e.to_string()))
+    delay_stability::lobes(&speeds, |rpm, a| model.at(rpm, a), &b, &|_, _| {})
+        .map_err(|e| StudyError::Invalid(e.to_string()))
 }
 
 /// (min, (max, at rpm)) of the boundaries (a speed without boundary counts as the search limit).
 pub fn extremes(points: &[LobePoint]) -> (f64, (f64, f64)) {
     let v = |p: &LobePoint| p.critical.value.unwrap_or(10e-3);
     let min = points.iter().map(v).fold(f64::INFINITY, f64::min);
-    let max = points.iter().map(|p| (v(p), p.rpm)).fold((f64::NEG_INFINITY, f64::NAN), |a, b| if b.0 > a.0 { b } else { a });
+    let max =
+        points.iter().map(|p| (v(p), p.rpm)).fold((f64::NEG_INFINITY, f64::NAN), |a, b| if b.0 > a.0 { b } else { a });
     (min, max)
 }
 
 /// Synthesise one case from `theta0` (see [`initial`]).
-pub fn design(case: Case, theta0: &[f64], o: &SynthOptions, progress: &(dyn Fn(&str) + Sync)) -> Result<Design, StudyError> {
+pub fn design(
+    case: Case,
+    theta0: &[f64],
+    o: &SynthOptions,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<Design, StudyError> {
     let par = case.parameterisation();
     let make = |abar: f64| case.problem(abar).expect("the seed's cutter is valid");
     let inv = |e: robust_synthesis::SynthError| StudyError::Invalid(e.to_string());
@@ -251,14 +249,27 @@ pub fn design(case: Case, theta0: &[f64], o: &SynthOptions, progress: &(dyn Fn(&
     };
     let controller = par.controller(&theta, 1.0);
     let check = if abar > 0.0 {
-        mu_check(&make(abar), &par, &theta, &o.check_hz, 2 * o.dk.d_iter).map_err(inv)?
+        mu_check(&make(abar), &par, &theta, &o.dk.check_hz, 2 * o.dk.d_iter).map_err(inv)?
     } else {
         (f64::NAN, f64::NAN)
     };
     progress(&format!("{}: SD box check", case.name()));
     let lobes = sd_check(case, Some(&controller), o)?;
     let (box_min, ap_max) = extremes(&lobes);
-    Ok(Design { case, theta, controller, abar, mu, mu_check: check, psi, dk_steps: (steps, total), lobes, box_min, ap_max, trials })
+    Ok(Design {
+        case,
+        theta,
+        controller,
+        abar,
+        mu,
+        mu_check: check,
+        psi,
+        dk_steps: (steps, total),
+        lobes,
+        box_min,
+        ap_max,
+        trials,
+    })
 }
 
 /// The design as an SSP parameter set (`ssv:ParameterSet`) with the `LinearController` names:
@@ -358,4 +369,38 @@ pub fn write(dir: &Path, designs: &[Design]) -> Result<(), StudyError> {
         std::fs::write(&path, text).map_err(|e| StudyError::io(&path, e))?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn higher_orders_start_from_the_lower_design() {
+        let p2: Vec<f64> = (0..16).map(|k| k as f64 * 0.1 - 0.7).collect();
+        let c2 = Case::Table2 { nc: 2 }.parameterisation().controller(&p2, 1.0);
+        let t4 = initial(Case::Table2 { nc: 4 }, Some(&p2), 1);
+        assert_eq!(t4.len(), 28);
+        let c4 = Case::Table2 { nc: 4 }.parameterisation().controller(&t4, 1.0);
+        assert_eq!(c4.dc, c2.dc);
+        assert_eq!(c4.ac.view((0, 0), (2, 2)), c2.ac.view((0, 0), (2, 2)));
+        assert_eq!(c4.bc.rows(0, 2), c2.bc.rows(0, 2));
+        assert_eq!(c4.cc.columns(0, 2), c2.cc.columns(0, 2));
+        // the new block is the 1300 Hz one, damping 0.1
+        assert!((c4.ac[(2, 3)] - 2.0 * std::f64::consts::PI * 1300.0).abs() < 1e-6);
+        // n_c = 2 from n_c = 0: D_c kept
+        let t2 = initial(Case::Table2 { nc: 2 }, Some(&[0.1, 0.2, 0.3, 0.4]), 1);
+        assert_eq!(&t2[12..], &[0.1, 0.2, 0.3, 0.4]);
+    }
+
+    #[test]
+    fn ssv_round_trips_through_the_ssp_reader() {
+        let c = Case::Table2 { nc: 2 }.parameterisation().controller(&initial(Case::Table2 { nc: 2 }, None, 3), 1.0);
+        let params = ssp::parse_ssv(&ssv("x", &c), "x.ssv", "").unwrap();
+        assert_eq!(params.len(), 4 + 4 + 4 + 4 + 2);
+        let get = |n: &str| params.iter().find(|p| p.name == n).unwrap_or_else(|| panic!("{n}")).value.clone();
+        assert_eq!(get("Ac[1,2]"), ssp::ParamValue::Real(c.ac[(0, 1)], None));
+        assert_eq!(get("Bc[2,1]"), ssp::ParamValue::Real(c.bc[(1, 0)], None));
+        assert_eq!(get("n_c"), ssp::ParamValue::Integer(2));
+    }
 }

@@ -70,26 +70,36 @@ pub fn synth(a: &SynthArgs) -> Result<()> {
         let tc = Instant::now();
         let d = design(case, &theta0, &o, &|s: &str| {
             bar.set_message(s.to_string());
-            bar.println(s);
+            if bar.is_hidden() {
+                eprintln!("{s}");
+            } else {
+                bar.println(s);
+            }
         })
         .with_context(|| format!("synthesis of {}", case.name()))?;
-        bar.println(format!(
-            "{}: ā_p {:.3} mm, μ̂ {:.4} (fine grid {:.4}), a_p,max {:.3} mm, SD box {} [{:.1} s]",
-            case.name(),
-            d.abar * 1e3,
-            d.mu,
-            d.mu_check.0,
-            d.ap_max.0 * 1e3,
-            if d.box_stable() { "stable" } else { "NOT stable" },
-            tc.elapsed().as_secs_f64()
-        ));
+        say(
+            &bar,
+            format!(
+                "{}: ā_p {:.3} mm, μ̂ {:.4} (fine grid {:.4}), a_p,max {:.3} mm, SD box {} [{:.1} s]",
+                case.name(),
+                d.abar * 1e3,
+                d.mu,
+                d.mu_check.0,
+                d.ap_max.0 * 1e3,
+                if d.box_stable() { "stable" } else { "NOT stable" },
+                tc.elapsed().as_secs_f64()
+            ),
+        );
         if case == Case::Sec61 {
             let k = &d.controller.dc;
-            bar.println(format!(
-                "§6.1 gains: k1 = {:.4} N/mm, k2 = {:.4} N/mm (paper 697.1599, -1071.058)",
-                k[(0, 0)] * 1e-3,
-                k[(1, 0)] * 1e-3
-            ));
+            say(
+                &bar,
+                format!(
+                    "§6.1 gains: k1 = {:.4} N/mm, k2 = {:.4} N/mm (paper 697.1599, -1071.058)",
+                    k[(0, 0)] * 1e-3,
+                    k[(1, 0)] * 1e-3
+                ),
+            );
         }
         designs.push(d);
         write(&a.out, &designs)?;
@@ -98,4 +108,13 @@ pub fn synth(a: &SynthArgs) -> Result<()> {
     println!("{}", markdown(&designs));
     println!("wall time {:.1} s; wrote {}", t.elapsed().as_secs_f64(), a.out.display());
     Ok(())
+}
+
+/// A line above the bar, or on stderr when the bar is hidden (not a terminal).
+fn say(bar: &ProgressBar, line: String) {
+    if bar.is_hidden() {
+        eprintln!("{line}");
+    } else {
+        bar.println(line);
+    }
 }
