@@ -203,7 +203,7 @@ impl Problem {
         if !(lo.is_finite() && lo > 0.0 && hi > lo && hi.is_finite()) || self.teeth == 0 {
             return Err(SynthError::Invalid(format!("speed range {lo}–{hi} rpm, {} teeth", self.teeth)));
         }
-        if !(self.abar.is_finite() && self.abar >= 0.0) || !self.beta.is_finite() {
+        if !(self.abar.is_finite() && self.abar >= 0.0 && self.beta.is_finite()) {
             return Err(SynthError::Invalid(format!("ā_p = {}, β = {}", self.abar, self.beta)));
         }
         Ok(())
@@ -351,8 +351,8 @@ pub fn close(p: &CMat, k: &CMat) -> Result<Loop, SynthError> {
     let p21 = p.view((8, 0), (2, 8));
     let p22 = p.view((8, 8), (2, 2));
     let i2 = CMat::identity(2, 2);
-    let a = (&i2 - &p22 * k).try_inverse().ok_or_else(|| SynthError::Singular("I − P₂₂K".into()))?;
-    let b = (&i2 - k * &p22).try_inverse().ok_or_else(|| SynthError::Singular("I − KP₂₂".into()))?;
+    let a = (&i2 - p22 * k).try_inverse().ok_or_else(|| SynthError::Singular("I − P₂₂K".into()))?;
+    let b = (&i2 - k * p22).try_inverse().ok_or_else(|| SynthError::Singular("I − KP₂₂".into()))?;
     let right = a * p21;
     let left = p12 * b;
     let n = p11 + p12 * k * &right;

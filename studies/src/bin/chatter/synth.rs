@@ -54,7 +54,7 @@ pub fn synth(a: &SynthArgs) -> Result<()> {
         other => bail!("--case {other}: one of 6.1, table2, all"),
     }
     if a.case != "6.1" {
-        if a.max_order % 2 != 0 || a.max_order > 8 {
+        if !a.max_order.is_multiple_of(2) || a.max_order > 8 {
             bail!("--max-order {}: an even order up to 8", a.max_order);
         }
         cases.extend((0..=a.max_order).step_by(2).map(|nc| Case::Table2 { nc }));
