@@ -102,6 +102,7 @@ pub mod sd_lobes;
 pub mod sd_validation;
 pub mod seed002;
 pub mod sweeps;
+pub mod synth;
 pub mod table8;
 pub mod tuning;
 pub mod validation;

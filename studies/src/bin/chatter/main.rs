@@ -12,6 +12,7 @@
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
 //! chatter afrac [--quick] [--duration 3] [--lambda-speed L3] [--lambda-feed L2] [--out afrac-out]
 //! chatter afrac-ga [--quick] [--seed 1] [--population 20] [--generations 40] [--bumpless]
+//! chatter synth [--case all|6.1|table2] [--max-order 4] [--quick] [--out synth-out]
 //! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
 //! chatter dsmc [--quick] [--ts 1e-4] [--sigma 0.17] [--u-max 2000] [--out dsmc-out]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
@@ -42,6 +43,7 @@ mod robustness;
 mod sd_lobes;
 mod spindle;
 mod sweep;
+mod synth;
 mod tables;
 mod tune;
 mod validate;
@@ -89,6 +91,8 @@ enum Cmd {
     /// Seed 002's spindle on the FMUs: closed-loop tool FRFs, growth/decay of Spindle.ssp around the SD boundary.
     #[command(subcommand)]
     Spindle(spindle::SpindleCmd),
+    /// Seed 002 robust synthesis: §6.1 and Table II (n_c = 0, 2, 4) by D-K iteration with bisection, SD box checks, SSP parameter sets.
+    Synth(synth::SynthArgs),
     /// PSO tuning (N runs per structure); best gains as JSON and CSV, Table A1 statistics.
     Tune(tune::TuneArgs),
     /// Table 6 (seed plant, open and closed loop) and the Table 8 uncontrolled row (Ozsoy plant).
@@ -129,6 +133,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Lobes(a) => lobes::lobes(a),
         Cmd::SdLobes(a) => sd_lobes::sd_lobes_cmd(a),
         Cmd::Spindle(c) => spindle::spindle(c),
+        Cmd::Synth(a) => synth::synth(a),
         Cmd::Tune(a) => tune::tune(a),
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),
