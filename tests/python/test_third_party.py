@@ -5,8 +5,10 @@ The shipped example ``packaging/examples/third_party/`` (built by its ``make_ssp
 along x at 600 Hz, mode 2 along y at 900 Hz, RK4 with the force held: a model a user might
 bring). ``ThirdPartyStructure.ssd`` connects it to our process as a *tool* structure:
 the process's ``force_x/y`` (the force on the tool) into the structure's ``tool_force_x/y``, the
-structure's ``tool_x/y`` into the process's ``tool_x/y`` (the workpiece inputs stay 0), Gauss-Seidel
-``structure process`` at 10 us for 0.05 s. The test builds the FMU with pythonfmu, packs the SSP, runs it in
+structure's ``tool_x/y`` into the process's ``tool_x/y`` (the workpiece inputs stay 0); our
+ChatterController measures ``tool_x`` and drives our InertialActuator, whose force enters the
+structure's ``actuator_force_x/y``. Gauss-Seidel ``controller actuator structure process`` at
+10 us for 0.05 s. The test builds the FMU with pythonfmu, packs the SSP, runs it in
 the Rust master (``cosim run --preload libpython``) and in the FMPy loop of ``fmpy_closed_loop``,
 and compares every recorded column to 1e-12. The same SSP runs in libcosim (libcosimpy, the
 Open Simulation Platform's master): libcosim steps all components from the same communication
@@ -28,12 +30,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "packaging" / "exam
 import make_ssp  # noqa: E402  (the shipped example's builder)
 
 STOP = 0.05
-RECORD = ["process.force_x", "process.force_y", "process.chip_thickness", "structure.tool_x", "structure.tool_y"]
+RECORD = ["process.force_x", "process.force_y", "process.chip_thickness", "structure.tool_x", "structure.tool_y",
+          "controller.u", "actuator.force_x"]
 LIBPYTHON = Path(sysconfig.get_config_var("LIBDIR")) / sysconfig.get_config_var("LDLIBRARY")
 
 
 def build_ssp(tmp_path):
-    return make_ssp.build(tmp_path, fmu_path("MillingProcess"))
+    return make_ssp.build(tmp_path, fmu_path("MillingProcess").parent)
 
 
 def rust_run(ssp, out, *extra):
@@ -49,7 +52,7 @@ def test_a_pythonfmu_structure_runs_with_our_process_in_our_master_and_fmpy_alik
     rust = rust_run(ssp, tmp_path / "rust.csv")
     system = System(ssp)
     try:
-        assert [c.name for c in system.sequence] == ["structure", "process"]
+        assert [c.name for c in system.sequence] == ["controller", "actuator", "structure", "process"]
         times, py = system.run(STOP, {}, RECORD)
     finally:
         system.close()
@@ -62,6 +65,8 @@ def test_a_pythonfmu_structure_runs_with_our_process_in_our_master_and_fmpy_alik
     assert np.std(x[len(x) // 2:]) > 0 and np.std(y[len(y) // 2:]) > 0
     assert np.mean(py["process.force_x"]) < 0 < np.mean(py["process.force_y"])
     assert np.mean(x) < 0 < np.mean(y)
+    # the controller acts: a non-zero command reaches the structure as the actuator's force
+    assert np.max(np.abs(py["controller.u"])) > 0 and np.max(np.abs(py["actuator.force_x"])) > 0
 
 
 def test_the_same_ssp_runs_in_libcosim_and_matches_our_master_in_jacobi_order(tmp_path):
@@ -75,7 +80,7 @@ def test_the_same_ssp_runs_in_libcosim_and_matches_our_master_in_jacobi_order(tm
     rust = rust_run(ssp, tmp_path / "jacobi.csv", "--order", "jacobi")
     log_output_level(CosimLogLevel.ERROR)
     ex = CosimExecution.from_ssp_file(str(ssp), step_size=10_000)  # libcosim counts time in ns
-    assert ex.num_slaves() == 2
+    assert ex.num_slaves() == 4
     obs = CosimObserver.create_last_value()
     ex.add_observer(obs)
     index = {s.name.decode(): s.index for s in ex.slave_infos()}

@@ -15,13 +15,16 @@ class TwoModeXY(Fmi2Slave):
         self.mass = 2.0
         self.tool_force_x = 0.0
         self.tool_force_y = 0.0
+        self.actuator_force_x = 0.0
+        self.actuator_force_y = 0.0
         self.tool_x = 0.0
         self.tool_y = 0.0
         self.vx = 0.0
         self.vy = 0.0
         for n in ("fx_hz", "fy_hz", "zeta", "mass"):
             self.register_variable(Real(n, causality=Fmi2Causality.parameter, variability=Fmi2Variability.tunable))
-        for n in ("tool_force_x", "tool_force_y"):
+        # the cutting force and an active damper's force, both at the tool point
+        for n in ("tool_force_x", "tool_force_y", "actuator_force_x", "actuator_force_y"):
             self.register_variable(Real(n, causality=Fmi2Causality.input))
         for n in ("tool_x", "tool_y"):
             self.register_variable(Real(n, causality=Fmi2Causality.output))
@@ -39,6 +42,8 @@ class TwoModeXY(Fmi2Slave):
         return (q + h / 6.0 * (k1q + 2 * k2q + 2 * k3q + k4q), v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v))
 
     def do_step(self, current_time, step_size):
-        self.tool_x, self.vx = self._mode(self.tool_x, self.vx, self.fx_hz, self.tool_force_x, step_size)
-        self.tool_y, self.vy = self._mode(self.tool_y, self.vy, self.fy_hz, self.tool_force_y, step_size)
+        fx = self.tool_force_x + self.actuator_force_x
+        fy = self.tool_force_y + self.actuator_force_y
+        self.tool_x, self.vx = self._mode(self.tool_x, self.vx, self.fx_hz, fx, step_size)
+        self.tool_y, self.vy = self._mode(self.tool_y, self.vy, self.fy_hz, fy, step_size)
         return True
