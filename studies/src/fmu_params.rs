@@ -138,6 +138,16 @@ pub fn overrides_of(component: &str, assignments: Vec<(String, Value)>) -> Vec<f
     assignments.into_iter().map(|(name, v)| fmi_master::Override::typed(format!("{component}.{name}"), v)).collect()
 }
 
+/// The controller gains of a named preset: `tuned` (the shipped defaults) or `table2` (the
+/// seed's Table 2).
+pub fn gain_preset(name: &str) -> Result<chatter_control::ControllerParams, StudyError> {
+    match name {
+        "table2" => Ok(chatter_control::ControllerParams::paper_table2()),
+        "tuned" => Ok(chatter_control::ControllerParams::tuned()),
+        p => Err(StudyError::Invalid(format!("preset {p}: expected table2 or tuned"))),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

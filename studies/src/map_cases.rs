@@ -5,10 +5,10 @@
 use crate::StudyError;
 use crate::batch::{Metrics, Windows, run_one};
 use crate::cases::{CaseStudy, Collected};
-use crate::fmu_params::overrides_of;
+use crate::fmu_params::{gain_preset, overrides_of};
 use crate::map::{CSV_HEADER, Cell, MapJob, MapStudy, csv_row, jobs, write_report};
 use crate::scenario::{Roles, closed_loop_system, roles};
-use chatter_control::{ControllerParams, Structure};
+use chatter_control::Structure;
 use fmi_master::SystemFile;
 use model_kit::Choice;
 use serde::{Deserialize, Serialize};
@@ -52,11 +52,7 @@ impl MapSpec {
             return Err(bad(format!("stop time {}: must be at least 2 s", self.stop_time)));
         }
         let rpm: Vec<f64> = (0..).map(|k| r[0] + r[2] * f64::from(k)).take_while(|x| *x <= r[1] + 1e-9).collect();
-        let preset = match self.preset.as_str() {
-            "table2" => ControllerParams::paper_table2(),
-            "tuned" => ControllerParams::tuned(),
-            p => return Err(bad(format!("preset {p}: expected table2 or tuned"))),
-        };
+        let preset = gain_preset(&self.preset)?;
         let controllers = self
             .controllers
             .iter()

@@ -7,10 +7,10 @@
 use crate::StudyError;
 use crate::batch::{Metrics, Windows, run_one};
 use crate::cases::{CaseStudy, Collected};
-use crate::fmu_params::overrides_of;
+use crate::fmu_params::{gain_preset, overrides_of};
 use crate::robustness::{CSV_HEADER, Group, Point, Robustness, Run, csv_row, runs, sample_with, write_report};
 use crate::scenario::{Roles, closed_loop_system, roles};
-use chatter_control::{ControllerParams, Structure};
+use chatter_control::Structure;
 use fmi_master::SystemFile;
 use model_kit::Choice;
 use serde::{Deserialize, Serialize};
@@ -52,11 +52,7 @@ impl RobustnessSpec {
         if self.speeds.is_empty() || !self.speeds.iter().all(|r| r.is_finite() && *r > 0.0) {
             return Err(bad(format!("speeds {:?}: give positive speeds", self.speeds)));
         }
-        let preset = match self.preset.as_str() {
-            "table2" => ControllerParams::paper_table2(),
-            "tuned" => ControllerParams::tuned(),
-            p => return Err(bad(format!("preset {p}: expected table2 or tuned"))),
-        };
+        let preset = gain_preset(&self.preset)?;
         let controllers = self
             .controllers
             .iter()

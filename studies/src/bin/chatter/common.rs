@@ -39,11 +39,7 @@ pub fn structure_by_name(name: &str) -> Result<Structure> {
 
 /// The preset of `--preset` (Table 2 or the tuned defaults).
 pub fn controller_preset(g: &GainArgs) -> Result<ControllerParams> {
-    Ok(match g.preset.as_str() {
-        "table2" => ControllerParams::paper_table2(),
-        "tuned" => ControllerParams::tuned(),
-        p => bail!("--preset {p}: expected table2 or tuned"),
-    })
+    studies::fmu_params::gain_preset(&g.preset).map_err(|e| anyhow::anyhow!("--{e}"))
 }
 
 /// Controller parameters for a structure, Table 2 unless overridden.
