@@ -73,7 +73,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 11] = [
+pub const PRODUCTS: [Product; 12] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -139,6 +139,12 @@ pub const PRODUCTS: [Product; 11] = [
         dir: "fmu-sliding-fuzzy/cdylib",
         description: fmu_sliding_fuzzy::SlidingModeFuzzyController::description,
         documentation: fmu_sliding_fuzzy::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-turning-cdylib",
+        dir: "fmu-turning/cdylib",
+        description: fmu_turning::TurningProcessFmu::description,
+        documentation: fmu_turning::DOCUMENTATION,
     },
 ];
 
