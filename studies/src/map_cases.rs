@@ -3,7 +3,7 @@
 //! tasks, Dask) and `chatter collect` give the tables and heat maps of a local `chatter map`.
 
 use crate::StudyError;
-use crate::batch::{Metrics, Windows, run_one};
+use crate::batch::{Metrics, RowSink, Windows, run_one};
 use crate::cases::{CaseStudy, Collected};
 use crate::fmu_params::{gain_preset, overrides_of};
 use crate::map::{CSV_HEADER, Cell, MapJob, MapStudy, csv_row, jobs, write_report};
@@ -164,15 +164,13 @@ impl CaseStudy for MapCases {
                 Ok(Cell { controller: job.controller, i: job.i, j: job.j, metrics: *m, b_lim: job.b_lim })
             })
             .collect::<Result<Vec<_>>>()?;
-        let csv = dir.join("map.csv");
-        let mut text = format!("{CSV_HEADER}\n");
+        let csv = RowSink::create(&dir.join("map.csv"), CSV_HEADER)?;
         for c in &cells {
-            text.push_str(&csv_row(&study, c));
-            text.push('\n');
+            csv.row(&csv_row(&study, c))?;
         }
-        std::fs::write(&csv, text).map_err(|e| StudyError::io(&csv, e))?;
+        csv.complete()?;
         let (md, mut written) = write_report(&study, &cells, &self.spec.title(&study))?;
-        written.insert(0, csv);
+        written.insert(0, csv.path().to_path_buf());
         Ok(Collected { text: md, written })
     }
 }

@@ -5,7 +5,7 @@
 //! machine that reads the manifest rebuilds exactly the same runs from its own copy of the system.
 
 use crate::StudyError;
-use crate::batch::{Metrics, Windows, run_one};
+use crate::batch::{Metrics, RowSink, Windows, run_one};
 use crate::cases::{CaseStudy, Collected};
 use crate::fmu_params::{gain_preset, overrides_of};
 use crate::robustness::{CSV_HEADER, Group, Point, Robustness, Run, csv_row, runs, sample_with, write_report};
@@ -173,15 +173,13 @@ impl CaseStudy for RobustnessCases {
     fn collect(&self, dir: &Path, results: &[(String, RobustnessCase, Metrics)]) -> Result<Collected> {
         let study = Robustness { out: dir.to_path_buf(), ..self.study.clone() };
         let rows = results.iter().map(|(_, c, m)| Ok((self.find(c)?.clone(), *m))).collect::<Result<Vec<_>>>()?;
-        let csv = dir.join("robustness.csv");
-        let mut text = format!("{CSV_HEADER}\n");
+        let csv = RowSink::create(&dir.join("robustness.csv"), CSV_HEADER)?;
         for (r, m) in &rows {
-            text.push_str(&csv_row(&study, r, m));
-            text.push('\n');
+            csv.row(&csv_row(&study, r, m))?;
         }
-        std::fs::write(&csv, text).map_err(|e| StudyError::io(&csv, e))?;
+        csv.complete()?;
         let (md, mut written) = write_report(&self.sys, &study, &rows, &self.spec.title(&study))?;
-        written.insert(0, csv);
+        written.insert(0, csv.path().to_path_buf());
         Ok(Collected { text: md, written })
     }
 }
