@@ -49,27 +49,36 @@ enum Target {
     Decomposed { process: ProcessParams },
 }
 
-/// `|x(t) − x(t − τ)|` of the recorded samples into [`GrowthWindows`].
-struct Regen {
-    windows: GrowthWindows,
+/// `|x(t) − x(t − τ)|` of the recorded samples into [`GrowthWindows`]: the Euclidean norm over
+/// the `N` recorded channels of each channel's difference (`N = 1`: the absolute difference),
+/// `x(t − τ)` interpolated linearly between the samples `lag` steps back (before the start: 0).
+pub(crate) struct Regen<const N: usize> {
+    pub(crate) windows: GrowthWindows,
     lag: f64,
-    past: VecDeque<f64>,
+    past: VecDeque<[f64; N]>,
 }
 
-impl Observer for Regen {
+impl<const N: usize> Regen<N> {
+    /// Over `n` samples, with the delay `lag` in samples.
+    pub(crate) fn new(n: usize, lag: f64) -> Self {
+        Regen { windows: GrowthWindows::new(n), lag, past: VecDeque::new() }
+    }
+}
+
+impl<const N: usize> Observer for Regen<N> {
     fn start(&mut self, _names: &[String]) -> Result<(), SimError> {
         Ok(())
     }
     fn sample(&mut self, _t: f64, values: &[f64]) -> Result<(), SimError> {
-        let x = values[0];
+        let mut x = [0.0; N];
+        x.copy_from_slice(&values[..N]);
         let q = self.lag.floor() as usize;
         let frac = self.lag - q as f64;
         self.past.push_front(x);
         self.past.truncate(q + 2);
-        // x(t − τ) from the samples q and q + 1 steps back (before the start: the history is 0)
-        let at = |k: usize| self.past.get(k).copied().unwrap_or(0.0);
-        let delayed = (1.0 - frac) * at(q) + frac * at(q + 1);
-        self.windows.push(x - delayed);
+        let at = |k: usize, i: usize| self.past.get(k).map_or(0.0, |v| v[i]);
+        let norm = (0..N).fold(0.0_f64, |acc, i| acc.hypot(x[i] - ((1.0 - frac) * at(q, i) + frac * at(q + 1, i))));
+        self.windows.push(norm);
         Ok(())
     }
     fn finish(&mut self) -> Result<(), SimError> {
@@ -157,7 +166,7 @@ impl<'a> SdFmuCheck<'a> {
             Target::Decomposed { process } => process.teeth,
         };
         let tau = 60.0 / (f64::from(teeth) * rpm);
-        let mut obs = Regen { windows: GrowthWindows::new(n), lag: tau / self.step, past: VecDeque::new() };
+        let mut obs = Regen::<1>::new(n, tau / self.step);
         match sim.run(&mut obs, Progress::Off) {
             // the plant stops with an error when |x| passes its limit: grown far beyond the release
             Err(SimError::Fmu(_)) if obs.windows.max > 100.0 * RELEASE => Ok(f64::INFINITY),

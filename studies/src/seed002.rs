@@ -16,13 +16,12 @@
 //! and the spindle matrices from the spindle core ([`spindle_structure`]).
 
 use crate::StudyError;
-use crate::validation::GrowthWindows;
-use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
+use crate::sd_validation::Regen;
+use fmi_master::{Override, Progress, RunConfig, SimError, Simulation, SystemFile};
 use linear_control::LinearControlParams;
 use model_description::Value;
 use num_complex::Complex64;
 use spindle_structure::{Spindle, SpindleParams};
-use std::collections::VecDeque;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -44,33 +43,6 @@ pub fn static_gain(gains: Option<(f64, f64)>) -> LinearControlParams {
         p.dc = [[k1 * 1e3, -k2 * 1e3], [k2 * 1e3, k1 * 1e3]];
     }
     p
-}
-
-/// `|v_t(t) − v_t(t − τ)|` of the recorded tool displacement into [`GrowthWindows`].
-struct Regen {
-    windows: GrowthWindows,
-    lag: f64,
-    past: VecDeque<[f64; 2]>,
-}
-
-impl Observer for Regen {
-    fn start(&mut self, _names: &[String]) -> Result<(), SimError> {
-        Ok(())
-    }
-    fn sample(&mut self, _t: f64, values: &[f64]) -> Result<(), SimError> {
-        let x = [values[0], values[1]];
-        let q = self.lag.floor() as usize;
-        let frac = self.lag - q as f64;
-        self.past.push_front(x);
-        self.past.truncate(q + 2);
-        let at = |k: usize, i: usize| self.past.get(k).map_or(0.0, |v| v[i]);
-        let d = |i: usize| x[i] - ((1.0 - frac) * at(q, i) + frac * at(q + 1, i));
-        self.windows.push(d(0).hypot(d(1)));
-        Ok(())
-    }
-    fn finish(&mut self) -> Result<(), SimError> {
-        Ok(())
-    }
 }
 
 /// The shipped spindle system set up for growth/decay runs.
@@ -123,7 +95,8 @@ impl<'a> SpindleCheck<'a> {
         let mut sim = Simulation::new(self.sys, &cfg)?;
         let n = usize::try_from(sim.n_steps() + 1).unwrap_or(usize::MAX);
         let tau = 60.0 / (c.teeth as f64 * rpm);
-        let mut obs = Regen { windows: GrowthWindows::new(n), lag: tau / self.step, past: VecDeque::new() };
+        // |v_t(t) − v_t(t − τ)| of the tool displacement (x, y)
+        let mut obs = Regen::<2>::new(n, tau / self.step);
         match sim.run(&mut obs, Progress::Off) {
             // the spindle stops with an error when a displacement passes 1 m: grown without bound
             Err(SimError::Fmu(_)) if obs.windows.max > 1e-3 => Ok(f64::INFINITY),
