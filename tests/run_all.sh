@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
-step() { printf '\n=== %s ===\n' "$*"; }
+step() { printf '\n=== %s (%d s since start) ===\n' "$*" "$SECONDS"; }
 
 step "Python venv with FMPy, cargo-zigbuild and zig"
 if [ ! -x .venv/bin/python ]; then
@@ -75,3 +75,4 @@ rm -rf target/wheels
 python3 -m venv --clear target/wheel-venv
 target/wheel-venv/bin/python -m pip install --quiet --disable-pip-version-check target/wheels/chatter_fmu-*.whl pytest
 FMU_DIR="$root/target/fmu" target/wheel-venv/bin/python -m pytest -q python/tests
+echo "all tests passed in $SECONDS s"
