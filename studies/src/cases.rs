@@ -377,13 +377,18 @@ pub fn collect<S: CaseStudy>(dir: &Path) -> Result<Collected> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::io::Write;
 
-    /// A toy study: case k squares k; collect writes the sum.
+    /// A toy study: case k squares k; collect writes the sum. Each executed case appends its
+    /// ID to `runs.log` in the study directory, so the tests (which run in parallel, each in
+    /// its own directory) count their own runs.
     struct Squares {
         spec: u32,
     }
-    static RUNS: AtomicUsize = AtomicUsize::new(0);
+
+    fn runs(dir: &Path) -> usize {
+        std::fs::read_to_string(dir.join("runs.log")).map_or(0, |s| s.lines().count())
+    }
 
     impl CaseStudy for Squares {
         const KIND: &'static str = "squares";
@@ -399,8 +404,14 @@ mod tests {
         fn cases(&self) -> Result<Vec<(String, u64)>> {
             Ok((0..self.spec as u64).map(|k| (format!("k{k:02}"), k)).collect())
         }
-        fn run_case(&self, _: &Path, _: &str, k: &u64, _: &(dyn Fn(String) + Sync)) -> Result<u64> {
-            RUNS.fetch_add(1, Ordering::SeqCst);
+        fn run_case(&self, dir: &Path, id: &str, k: &u64, _: &(dyn Fn(String) + Sync)) -> Result<u64> {
+            let path = dir.join("runs.log");
+            std::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(&path)
+                .and_then(|mut f| writeln!(f, "{id}"))
+                .map_err(|e| StudyError::io(&path, e))?;
             if *k == 99 {
                 return Err(StudyError::Invalid("boom".into()));
             }
@@ -425,12 +436,12 @@ mod tests {
         // collect before running names the missing cases
         let e = collect::<Squares>(dir).unwrap_err().to_string();
         assert!(e.contains("10 of 10 cases") && e.contains("k00"), "{e}");
-        let before = RUNS.load(Ordering::SeqCst);
+        let before = runs(dir);
         for i in 1..=3 {
             let s = run::<Squares>(dir, &Selection::Shard { index: i, count: 3 }).unwrap();
             assert!(s.failed.is_empty());
         }
-        assert_eq!(RUNS.load(Ordering::SeqCst) - before, 10, "each case ran exactly once");
+        assert_eq!(runs(dir) - before, 10, "each case ran exactly once");
         // a re-run skips every case
         let s = run::<Squares>(dir, &Selection::All).unwrap();
         assert_eq!((s.ran.len(), s.skipped.len()), (0, 10));
