@@ -77,14 +77,10 @@ pub struct Oustaloup {
 impl Oustaloup {
     /// The approximation of `(ω_u/s)^β` on `band`.
     pub fn new(beta: f64, band: &Band) -> Self {
+        // zeros and poles from the one Oustaloup design of the workspace (chatter-control's,
+        // which approximates s^r: here r = γ = −β); only the gain normalisation differs
         let g = -beta;
-        let n = band.n as i32;
-        let m = (2 * n + 1) as f64;
-        let r = band.omega_h / band.omega_b;
-        let at = |e: f64| band.omega_b * r.powf(e / m);
-        let ks = -n..=n;
-        let zeros = ks.clone().map(|k| at(k as f64 + n as f64 + 0.5 * (1.0 - g))).collect();
-        let poles = ks.map(|k| at(k as f64 + n as f64 + 0.5 * (1.0 + g))).collect();
+        let (_, zeros, poles) = chatter_control::oustaloup::design(g, band.omega_b, band.omega_h, band.n as usize);
         let omega_u = (band.omega_b * band.omega_h).sqrt();
         Oustaloup { beta, zeros, poles, gain: (band.omega_h / omega_u).powf(g) }
     }
