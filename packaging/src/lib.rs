@@ -59,6 +59,9 @@ pub const SPINDLE_FMUS: [&str; 3] = ["MillingProcess.fmu", "SpindleStructure.fmu
 /// Seed 003's closed loop (ToolXyPlant + SlidingModeFuzzyController),
 /// `packaging/scenarios/SlidingModeFuzzy.ssd`: the `SystemStructure.ssd` of `SlidingModeFuzzy.ssp`.
 pub const SLIDING_MODE_FUZZY_SSD: &str = include_str!("../scenarios/SlidingModeFuzzy.ssd");
+/// Seed 001's closed loop (TurningProcess + AfracController), `packaging/scenarios/Afrac.ssd`:
+/// the `SystemStructure.ssd` of `Afrac.ssp`.
+pub const AFRAC_SSD: &str = include_str!("../scenarios/Afrac.ssd");
 
 /// One FMU product of the project.
 pub struct Product {
@@ -73,7 +76,7 @@ pub struct Product {
 }
 
 /// The FMUs this project ships.
-pub const PRODUCTS: [Product; 12] = [
+pub const PRODUCTS: [Product; 13] = [
     Product {
         package: "fmu-plant-cdylib",
         dir: "fmu-plant/cdylib",
@@ -145,6 +148,12 @@ pub const PRODUCTS: [Product; 12] = [
         dir: "fmu-turning/cdylib",
         description: fmu_turning::TurningProcessFmu::description,
         documentation: fmu_turning::DOCUMENTATION,
+    },
+    Product {
+        package: "fmu-afrac-cdylib",
+        dir: "fmu-afrac/cdylib",
+        description: fmu_afrac::AfracController::description,
+        documentation: fmu_afrac::DOCUMENTATION,
     },
 ];
 
@@ -311,6 +320,9 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     };
     let ssp = dir.join("ForceControl.ssp");
     ssp::write_ssp_archive(&ssp, FORCE_CONTROL_SSD, &in_ssd(FORCE_CONTROL_SSD))?;
+    written.push(ssp);
+    let ssp = dir.join("Afrac.ssp");
+    ssp::write_ssp_archive(&ssp, AFRAC_SSD, &in_ssd(AFRAC_SSD))?;
     written.push(ssp);
     let ssp = dir.join("SlidingModeFuzzy.ssp");
     ssp::write_ssp_archive(&ssp, SLIDING_MODE_FUZZY_SSD, &in_ssd(SLIDING_MODE_FUZZY_SSD))?;
@@ -531,6 +543,21 @@ mod tests {
         assert_eq!(plant.parameters.len(), 2, "the calibrated forcing amplitudes");
         let ts = fmu_sliding_fuzzy::TABLE.read_parameters(&fmi2_export::Values::from_description(
             <fmu_sliding_fuzzy::SlidingModeFuzzyController as fmi2_export::Fmi2Model>::description(),
+        ));
+        let ts = ts.unwrap().sample_period;
+        assert!((ts / d.master.step_size.unwrap() - 1.0).abs() < 1e-12);
+    }
+
+    /// `Afrac.ssd` (seed 001) is canonical, connects x, v and the two commands, and steps the
+    /// controller's sample period (the loop of `studies::afrac`).
+    #[test]
+    fn the_afrac_system_is_canonical_and_steps_the_sample_period() {
+        let d = SystemDescription::from_xml(crate::AFRAC_SSD, "Afrac.ssd", None).unwrap();
+        assert_eq!(d.to_xml().unwrap(), crate::AFRAC_SSD, "Afrac.ssd is not canonical");
+        assert_eq!(d.components.len(), 2);
+        assert_eq!(d.connections.len(), 4, "x, v to the controller; spindle_speed, feed to the plant");
+        let ts = fmu_afrac::TABLE.read_parameters(&fmi2_export::Values::from_description(
+            <fmu_afrac::AfracController as fmi2_export::Fmi2Model>::description(),
         ));
         let ts = ts.unwrap().sample_period;
         assert!((ts / d.master.step_size.unwrap() - 1.0).abs() < 1e-12);

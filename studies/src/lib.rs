@@ -77,6 +77,7 @@
 //! | [`cases`] | a study as independent cases: plan (manifest), run any subset anywhere (shards, Slurm arrays, Dask), collect |
 
 pub mod afrac;
+pub mod afrac_fmu;
 pub mod batch;
 pub mod cases;
 pub mod closed_loop;

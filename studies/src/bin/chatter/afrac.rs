@@ -24,6 +24,10 @@ pub struct AfracArgs {
     /// Output directory (afrac_summary.csv, afrac_traces.csv, afrac_summary.md).
     #[arg(long, default_value = "afrac-out")]
     pub out: PathBuf,
+    /// Also run every case through the packaged FMUs (Afrac.ssd, TurningProcess.fmu from
+    /// target/fmu) and check that the table is the core one (afrac_fmu_summary.md).
+    #[arg(long)]
+    pub fmu: bool,
 }
 
 fn study(quick: bool, duration: f64, ls: Option<f64>, lf: Option<f64>) -> AfracStudy {
@@ -65,6 +69,29 @@ pub fn afrac(a: &AfracArgs) -> Result<()> {
         "paper: beta = 1.75 fastest with a dramatic speed change, beta = 1 slowest; AFrAC fully suppressed within 1.5 s"
     );
     println!("written: {}/afrac_{{summary,traces}}.csv, afrac_summary.md", a.out.display());
+    if a.fmu {
+        fmu_tables(&s, &rows, a)?;
+    }
+    Ok(())
+}
+
+/// The cases through the FMUs: the table must be the core one.
+fn fmu_tables(s: &AfracStudy, core: &[afrac::Summary], a: &AfracArgs) -> Result<()> {
+    use rayon::prelude::*;
+    let dir = packaging::fmu_dir();
+    packaging::packaged("AfracController.fmu");
+    let (n0, f0) = (s.controller.initial_speed, s.controller.initial_feed);
+    let rows: Vec<afrac::Summary> = s
+        .cases()
+        .par_iter()
+        .map(|c| studies::afrac_fmu::run_fmu(c, &dir).map(|t| afrac::summarise(&c.label, &t, n0, f0)))
+        .collect::<Result<_, _>>()?;
+    let md = afrac::summary_markdown(&rows);
+    std::fs::write(a.out.join("afrac_fmu_summary.md"), &md)?;
+    println!("through the FMUs (Afrac.ssd, TurningProcess.fmu in {}):\n{md}", dir.display());
+    let same = rows == core;
+    println!("FMU table equal to the core table: {}", if same { "yes (every summary bitwise)" } else { "NO" });
+    anyhow::ensure!(same, "the FMU runs differ from the core loop");
     Ok(())
 }
 

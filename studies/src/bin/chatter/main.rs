@@ -10,7 +10,7 @@
 //! chatter tune   [--plant seed|ozsoy] [--structures pid,fopid,adrc_fopid] [--runs 10] [--seed 1]
 //!                  [--particles 40] [--iterations 60] [--out DIR]
 //! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
-//! chatter afrac [--quick] [--duration 3] [--lambda-speed L3] [--lambda-feed L2] [--out afrac-out]
+//! chatter afrac [--quick] [--duration 3] [--lambda-speed L3] [--lambda-feed L2] [--out afrac-out] [--fmu]
 //! chatter afrac-ga [--quick] [--seed 1] [--population 20] [--generations 40] [--bumpless]
 //! chatter synth [--case all|6.1|table2] [--max-order 4] [--quick] [--out synth-out]
 //! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
