@@ -74,6 +74,8 @@
 //! | [`sweeps`] | seed 000 Figure 15: feed and engagement sweeps, harmonic balance, closed-form lobe minimum |
 //! | [`sweep_cases`] | the sweeps as independent cases (`chatter plan sweep`, `run`, `collect`) |
 //! | [`depth_cases`] | the depth study as independent cases (`chatter plan depth-study`, `run`, `collect`) |
+//! | [`tune_cases`] | PSO runs as independent cases (`chatter plan tune`, `run`, `collect`): Table A1, tuned JSON |
+//! | [`lobes_cases`] | lobe diagrams over speed chunks as independent cases (`chatter plan lobes`, `run`, `collect`) |
 //! | [`map`] | seed 000 Figure 16: the speed × depth map and its growth check against the lobes |
 //! | [`map_cases`] | the map as independent cases (`chatter plan map`, `run`, `collect`) |
 //! | [`batch_cases`] | the one case study of a batch of independent runs (map, robustness, sweeps, depth study, lobe chunks, PSO runs) |
@@ -94,6 +96,7 @@ pub mod fmu_params;
 pub mod fmu_validation;
 pub mod froh;
 pub mod lobes;
+pub mod lobes_cases;
 pub mod loop_frf;
 pub mod main_job;
 pub mod map;
@@ -110,6 +113,7 @@ pub mod sweep_cases;
 pub mod sweeps;
 pub mod synth;
 pub mod table8;
+pub mod tune_cases;
 pub mod tuning;
 pub mod validation;
 

@@ -6,10 +6,12 @@ use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use studies::cases::{self, CaseStudy, Selection};
 use studies::depth_cases::DepthCases;
+use studies::lobes_cases::LobesCases;
 use studies::main_job::MainJob;
 use studies::map_cases::MapCases;
 use studies::robustness_cases::RobustnessCases;
 use studies::sweep_cases::SweepCases;
+use studies::tune_cases::TuneCases;
 
 #[derive(Subcommand)]
 pub enum PlanCmd {
@@ -27,6 +29,12 @@ pub enum PlanCmd {
     /// The depth study (Figures 9–10): one case per controller × depth; `--out` is the study
     /// folder.
     DepthStudy(crate::depth_study::DepthStudyArgs),
+    /// Lobe diagrams: one case per chunk of `--chunk` speeds (every controller); `--out` is the
+    /// study folder (lobes.csv, lobes.png).
+    Lobes(crate::lobes::LobesPlanArgs),
+    /// PSO tuning: one case per structure × independent run (its seed); `--out` is the study
+    /// folder (table_a1.md, tuned_*.json, tuning_runs.csv).
+    Tune(crate::tune::TuneArgs),
 }
 
 #[derive(Args)]
@@ -75,6 +83,8 @@ pub fn plan(cmd: &PlanCmd) -> Result<()> {
         }
         PlanCmd::Sweep(a) => planned(&SweepCases::from_spec(a.spec()?)?, &a.out)?,
         PlanCmd::DepthStudy(a) => planned(&DepthCases::from_spec(a.spec())?, &a.out)?,
+        PlanCmd::Lobes(a) => planned(&LobesCases::from_spec(a.spec()?)?, &a.lobes.out)?,
+        PlanCmd::Tune(a) => planned(&TuneCases::from_spec(a.spec()?)?, &a.out)?,
     }
     Ok(())
 }
@@ -120,6 +130,8 @@ pub fn run(a: &RunArgs) -> Result<()> {
         MapCases::KIND => run_as::<MapCases>(&a.dir, &sel),
         SweepCases::KIND => run_as::<SweepCases>(&a.dir, &sel),
         DepthCases::KIND => run_as::<DepthCases>(&a.dir, &sel),
+        LobesCases::KIND => run_as::<LobesCases>(&a.dir, &sel),
+        TuneCases::KIND => run_as::<TuneCases>(&a.dir, &sel),
         other => bail!("{}: unknown study {other:?}", a.dir.display()),
     }
 }
@@ -131,6 +143,8 @@ pub fn collect(a: &CollectArgs) -> Result<()> {
         MapCases::KIND => cases::collect::<MapCases>(&a.dir)?,
         SweepCases::KIND => cases::collect::<SweepCases>(&a.dir)?,
         DepthCases::KIND => cases::collect::<DepthCases>(&a.dir)?,
+        LobesCases::KIND => cases::collect::<LobesCases>(&a.dir)?,
+        TuneCases::KIND => cases::collect::<TuneCases>(&a.dir)?,
         other => bail!("{}: unknown study {other:?}", a.dir.display()),
     };
     println!("{}", collected.text);
