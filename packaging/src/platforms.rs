@@ -2,7 +2,8 @@
 //!
 //! One FMU (one `modelDescription.xml`, one GUID) carries a binary per platform under
 //! `binaries/<platform>/`. Packaging builds every platform whose toolchain is on this machine
-//! with the `fmu-release` profile (release code, no debug info):
+//! with the `fmu-symbols` profile (release code with line tables, which [`split_debug`] moves
+//! into a separate debug file before the binary is shipped):
 //!
 //! | FMI folder | Rust target | built by | needs |
 //! |---|---|---|---|
@@ -25,8 +26,9 @@ use std::process::Command;
 pub const LINUX_PORTABLE_TARGET: &str = "x86_64-unknown-linux-gnu.2.17";
 /// The rustc target of the win64 build.
 pub const WINDOWS_TARGET: &str = "x86_64-pc-windows-gnu";
-/// The cargo profile of the FMU binaries (see the workspace `Cargo.toml`).
-pub const PROFILE: &str = "fmu-release";
+/// The cargo profile of the FMU binaries (see the workspace `Cargo.toml`): release code with
+/// line tables, which [`split_debug`] moves into a separate debug file.
+pub const PROFILE: &str = "fmu-symbols";
 
 /// How one platform's binaries were built.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -75,6 +77,62 @@ impl Build {
             Build::Windows => target.join(WINDOWS_TARGET).join(PROFILE).join(format!("{identifier}.dll")),
         }
     }
+}
+
+/// The `objcopy` that reads and writes this platform's binaries (GNU binutils: ELF for linux64,
+/// PE for win64, whose mingw-w64 binutils come with the mingw-w64 compiler).
+pub fn objcopy(build: &Build) -> &'static str {
+    match build {
+        Build::LinuxPortable | Build::LinuxHost => "objcopy",
+        Build::Windows => "x86_64-w64-mingw32-objcopy",
+    }
+}
+
+/// The separate debug file of `identifier` on `build`'s platform, under `debug_dir`
+/// (`<identifier>.<folder>.debug`, the name the shipped binary's `.gnu_debuglink` holds).
+pub fn debug_file(build: &Build, debug_dir: &Path, identifier: &str) -> PathBuf {
+    debug_dir.join(format!("{identifier}.{}.debug", build.folder()))
+}
+
+/// The binary that goes into the FMU: the cargo artifact without its debug info (under
+/// `<target>/fmu-shipped/<folder>/`; cargo's own file is left as it is, so a later build that
+/// cargo finds fresh is split again from the full file).
+pub fn shipped(build: &Build, target: &Path, identifier: &str) -> PathBuf {
+    target.join("fmu-shipped").join(build.folder()).join(build.file_name(identifier))
+}
+
+fn objcopy_run(tool: &str, args: &[&std::ffi::OsStr]) -> Result<()> {
+    let out = Command::new(tool).args(args).output().with_context(|| {
+        format!("running {tool} (GNU binutils; for win64 the mingw-w64 binutils) to split the debug info")
+    })?;
+    if !out.status.success() {
+        bail!("{tool} {args:?} failed: {}", String::from_utf8_lossy(&out.stderr).trim());
+    }
+    Ok(())
+}
+
+/// Split the debug info of `identifier`'s library on `build`'s platform: `objcopy
+/// --only-keep-debug` writes [`debug_file`], then the shipped copy ([`shipped`]) loses the debug
+/// sections (linux64: `--strip-unneeded`, only the dynamic symbols stay, as before; win64:
+/// `--strip-debug`) and gains a `.gnu_debuglink` to the debug file (its name and CRC), where gdb,
+/// `addr2line` and perf find it (next to the binary or in a debug directory). Returns the
+/// shipped binary.
+pub fn split_debug(build: &Build, target: &Path, debug_dir: &Path, identifier: &str) -> Result<PathBuf> {
+    let tool = objcopy(build);
+    let full = build.artifact(target, identifier);
+    let debug = debug_file(build, debug_dir, identifier);
+    let out = shipped(build, target, identifier);
+    for d in [debug_dir, out.parent().expect("a folder")] {
+        std::fs::create_dir_all(d).with_context(|| format!("creating {}", d.display()))?;
+    }
+    objcopy_run(tool, &["--only-keep-debug".as_ref(), full.as_os_str(), debug.as_os_str()])?;
+    let strip = match build {
+        Build::LinuxPortable | Build::LinuxHost => "--strip-unneeded",
+        Build::Windows => "--strip-debug",
+    };
+    let link = format!("--add-gnu-debuglink={}", debug.display());
+    objcopy_run(tool, &[strip.as_ref(), link.as_ref(), full.as_os_str(), out.as_os_str()])?;
+    Ok(out)
 }
 
 /// What packaging found it can build, and why it skips the rest.
@@ -223,7 +281,9 @@ mod tests {
         assert_eq!(Build::LinuxHost.folder(), "linux64");
         assert_eq!(Build::Windows.folder(), "win64");
         let t = Path::new("/t");
-        assert_eq!(Build::Windows.artifact(t, "A"), Path::new("/t/x86_64-pc-windows-gnu/fmu-release/A.dll"));
-        assert_eq!(Build::LinuxPortable.artifact(t, "A"), Path::new("/t/x86_64-unknown-linux-gnu/fmu-release/libA.so"));
+        assert_eq!(Build::Windows.artifact(t, "A"), Path::new("/t/x86_64-pc-windows-gnu/fmu-symbols/A.dll"));
+        assert_eq!(Build::LinuxPortable.artifact(t, "A"), Path::new("/t/x86_64-unknown-linux-gnu/fmu-symbols/libA.so"));
+        assert_eq!(debug_file(&Build::Windows, Path::new("/d"), "A"), Path::new("/d/A.win64.debug"));
+        assert_eq!(shipped(&Build::LinuxPortable, t, "A"), Path::new("/t/fmu-shipped/linux64/A.so"));
     }
 }
