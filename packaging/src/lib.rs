@@ -1,7 +1,9 @@
 //! # Packaging of the project's FMUs
 //!
-//! `cargo run --release -p packaging` builds the model cdylibs (profile
-//! `fmu-release`: no debug info) for each platform it can and writes, under `target/fmu/`:
+//! `cargo run --release -p packaging` builds the model cdylibs (profile `fmu-symbols`: release
+//! code with line tables) for each platform it can, moves their debug info into
+//! `target/fmu-debug/<modelIdentifier>.<platform>.debug` (the shipped binaries carry none, and a
+//! `.gnu_debuglink` to that file) and writes, under `target/fmu/`:
 //!
 //! * `<modelIdentifier>.fmu` for each product ([`PRODUCTS`]): `modelDescription.xml`
 //!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so` and, where
@@ -192,8 +194,15 @@ pub fn packaged(file: &str) -> PathBuf {
     p
 }
 
-/// Build the product cdylibs for every platform this machine can build ([`platforms::plan`]);
-/// prints what is skipped and why. Returns the builds done.
+/// Where packaging writes the FMU binaries' separate debug files: `<target>/fmu-debug/`
+/// (`<modelIdentifier>.<platform>.debug`, see [`platforms::split_debug`]).
+pub fn debug_dir() -> PathBuf {
+    target_dir().join("fmu-debug")
+}
+
+/// Build the product cdylibs for every platform this machine can build ([`platforms::plan`])
+/// and split their debug info into [`debug_dir`]; prints what is skipped and why. Returns the
+/// builds done.
 pub fn build_cdylibs() -> Result<Vec<Build>> {
     let venv = workspace_root().join(".venv");
     let plan = platforms::plan(&venv)?;
@@ -203,6 +212,10 @@ pub fn build_cdylibs() -> Result<Vec<Build>> {
     let packages: Vec<&str> = PRODUCTS.iter().map(|p| p.package).collect();
     for build in &plan.builds {
         platforms::run(build, &workspace_root(), &venv, &packages)?;
+        for p in &PRODUCTS {
+            let id = (p.description)().model_identifier().context("no modelIdentifier")?.to_string();
+            platforms::split_debug(build, &target_dir(), &debug_dir(), &id)?;
+        }
     }
     Ok(plan.builds)
 }
@@ -269,7 +282,7 @@ pub fn write_fmu(md: &ModelDescription, docs: &str, builds: &[Build], out: &Path
     let mut zip = ZipBuilder::new();
     zip.file("modelDescription.xml", md.to_xml()?, Compression::Deflated);
     for build in builds {
-        let library = build.artifact(&target_dir(), id);
+        let library = platforms::shipped(build, &target_dir(), id);
         let bytes = std::fs::read(&library).with_context(|| format!("reading {}", library.display()))?;
         zip.executable(format!("binaries/{}/{}", build.folder(), build.file_name(id)), bytes, Compression::Deflated);
     }

@@ -222,3 +222,42 @@ fn shipped_binaries_carry_no_debug_info() {
     let me = output(Command::new("readelf").arg("-S").arg(std::env::current_exe().unwrap()));
     assert!(me.contains(".debug_"));
 }
+
+/// darwin64 (packaged only when `FMU_PLATFORMS` names it): one universal Mach-O per product with
+/// an x86_64 and an arm64 slice, each exporting the 34 `fmi2*` functions (Mach-O symbol table,
+/// `llvm-nm`) and linking only macOS system libraries. Nothing here can load the dylibs.
+#[test]
+fn darwin64_dylibs_export_the_34_functions_for_x86_64_and_arm64() {
+    let tmp = tempfile::tempdir().unwrap();
+    let found: Vec<_> =
+        ids().into_iter().filter_map(|id| packaged_binary(&id, "darwin64", tmp.path()).map(|p| (id, p))).collect();
+    if found.len() < PRODUCTS.len() {
+        assert!(!required("darwin64"), "FMU_PLATFORMS requires darwin64 but some FMUs have no darwin64 binary");
+        eprintln!("SKIPPED: the FMUs carry no darwin64 binaries (FMU_PLATFORMS=...,darwin64 packages them)");
+        return;
+    }
+    for (id, dylib) in found {
+        for arch in ["x86_64", "arm64"] {
+            let arg = format!("--arch={arch}");
+            let text = output(Command::new("llvm-nm").args(["-g", "--defined-only", &arg]).arg(&dylib));
+            let fmi: Vec<&str> = text
+                .lines()
+                .filter_map(|l| {
+                    let w: Vec<&str> = l.split_whitespace().collect();
+                    (w.len() == 3 && w[1] == "T" && w[2].starts_with("_fmi2")).then_some(w[2])
+                })
+                .collect();
+            assert_eq!(fmi.len(), 34, "{id}.dylib {arch}: {fmi:?}");
+            let libs = output(Command::new("llvm-objdump").args(["--macho", "--dylibs-used", &arg]).arg(&dylib));
+            // the first entry is the slice's own install name: this product's library
+            let own = libs.lines().nth(1).unwrap_or_default();
+            assert!(own.contains(&format!("/lib{id}.dylib ")), "{id}.dylib {arch} is another library: {own}");
+            for lib in libs.lines().skip(2).map(str::trim) {
+                assert!(
+                    lib.starts_with("/usr/lib/") || lib.starts_with("/System/Library/"),
+                    "{id}.dylib {arch} links {lib}, not a macOS system library"
+                );
+            }
+        }
+    }
+}

@@ -23,6 +23,7 @@ use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, 
 use model_description::Value;
 use model_kit::Choice;
 use rayon::prelude::*;
+use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -72,7 +73,7 @@ impl Default for DepthStudy {
 }
 
 /// One run's metrics.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DepthRow {
     /// Controller.
     pub controller: Structure,
@@ -121,7 +122,8 @@ impl Observer for Collect {
     }
 }
 
-fn one(sys: &SystemFile, roles: &Roles, s: &DepthStudy, c: Structure, depth: f64) -> Result<DepthRow, StudyError> {
+/// One run: controller `c` at axial depth `depth` \[m\].
+pub fn one(sys: &SystemFile, roles: &Roles, s: &DepthStudy, c: Structure, depth: f64) -> Result<DepthRow, StudyError> {
     let mut overrides = s.overrides.clone();
     overrides.push(Override::typed(format!("{}.structure", roles.controller), Value::Integer(c.index())));
     overrides.push(Override::typed(format!("{}.seed", roles.plant), Value::Integer(s.seed)));
@@ -170,46 +172,82 @@ fn one(sys: &SystemFile, roles: &Roles, s: &DepthStudy, c: Structure, depth: f64
     })
 }
 
-/// Run the study on `sys` (the project's closed loop), all runs in parallel; each row is
-/// appended to `<out>/depth_study.csv` as its run finishes.
-pub fn run(sys: &SystemFile, s: &DepthStudy) -> Result<Vec<DepthRow>, StudyError> {
+/// Every run of the study (controller × depth, controller-major).
+pub fn jobs(s: &DepthStudy) -> Result<Vec<(Structure, f64)>, StudyError> {
     if s.depths.is_empty() || s.controllers.is_empty() {
         return Err(StudyError::Invalid("the depth study needs at least one depth and one controller".into()));
     }
     if let Some(d) = s.depths.iter().find(|d| !(d.is_finite() && **d >= 0.0)) {
         return Err(StudyError::Invalid(format!("depth {d} m: depths must be finite and not negative")));
     }
+    Ok(s.controllers.iter().flat_map(|&c| s.depths.iter().map(move |&d| (c, d))).collect())
+}
+
+/// Header of `depth_study.csv`.
+pub const CSV_HEADER: &str = "controller,depth_mm,band_peak_um,band_integrated_um,window_rms_um,saturation_duty";
+
+/// One row of `depth_study.csv`.
+pub fn csv_row(r: &DepthRow) -> String {
+    format!(
+        "{},{},{:.6},{:.6},{:.6},{:.6}",
+        r.controller.name(),
+        r.depth * 1e3,
+        r.band_peak * 1e6,
+        r.band_integrated * 1e6,
+        r.window_rms * 1e6,
+        r.saturation_duty
+    )
+}
+
+/// Run the study on `sys` (the project's closed loop), all runs in parallel; each row is
+/// appended to `<out>/depth_study.csv` as its run finishes.
+pub fn run(sys: &SystemFile, s: &DepthStudy) -> Result<Vec<DepthRow>, StudyError> {
+    let jobs = jobs(s)?;
     let roles = roles(sys)?;
     std::fs::create_dir_all(&s.out).map_err(|e| StudyError::io(&s.out, e))?;
     let path = s.out.join("depth_study.csv");
     let file = std::fs::File::create(&path).map_err(|e| StudyError::io(&path, e))?;
     let csv = Mutex::new(file);
-    writeln!(
-        csv.lock().expect("csv lock"),
-        "controller,depth_mm,band_peak_um,band_integrated_um,window_rms_um,saturation_duty"
-    )
-    .map_err(|e| StudyError::io(&path, e))?;
-    let jobs: Vec<(Structure, f64)> =
-        s.controllers.iter().flat_map(|&c| s.depths.iter().map(move |&d| (c, d))).collect();
+    writeln!(csv.lock().expect("csv lock"), "{CSV_HEADER}").map_err(|e| StudyError::io(&path, e))?;
     let rows: Vec<Result<DepthRow, StudyError>> = jobs
         .par_iter()
         .map(|&(c, d)| {
             let r = one(sys, &roles, s, c, d).map_err(|e| e.within(format!("{} at {} mm", c.name(), d * 1e3)))?;
             let mut f = csv.lock().expect("csv lock");
-            writeln!(
-                f,
-                "{},{},{:.6},{:.6},{:.6},{:.6}",
-                c.name(),
-                d * 1e3,
-                r.band_peak * 1e6,
-                r.band_integrated * 1e6,
-                r.window_rms * 1e6,
-                r.saturation_duty
-            )
-            .and_then(|()| f.flush())
-            .map_err(|e| StudyError::io(&path, e))?;
+            writeln!(f, "{}", csv_row(&r)).and_then(|()| f.flush()).map_err(|e| StudyError::io(&path, e))?;
             Ok(r)
         })
         .collect();
     rows.into_iter().collect()
+}
+
+/// `depth_study.md` in `s.out` from the rows (in job order), beside the seed's Figure 9 values;
+/// `preset` names the gains. Returns the markdown.
+pub fn report(s: &DepthStudy, rows: &[DepthRow], preset: &str) -> Result<String, StudyError> {
+    let mut md = format!(
+        "Depth study (seed 000 Section 5.6.1, 2000 rpm, {preset} gains, noise seed {}, {} s runs; spectrum from {} s; window {}–{} s)\n\n| controller | a_p (mm) | (a) peak 100–200 Hz (µm) | (b) band-integrated (µm) | (c) window RMS (µm) | (d) saturation duty | seed Figure 9 (µm) |\n|---|---|---|---|---|---|---|\n",
+        s.seed, s.stop, s.spectrum_from, s.window.0, s.window.1
+    );
+    for r in rows {
+        let k = s.depths.iter().position(|d| d.to_bits() == r.depth.to_bits()).unwrap_or(0);
+        let seed = SEED_FIGURE9
+            .iter()
+            .find(|(c, _)| *c == r.controller)
+            .and_then(|(_, v)| v.get(k).copied())
+            .filter(|v| v.is_finite() && s.depths.len() == 3)
+            .map_or("–".to_string(), |v| format!("{v:.2}"));
+        let _ = writeln!(
+            md,
+            "| {} | {:.2} | {:.3} | {:.3} | {:.3} | {:.1} % | {seed} |",
+            r.controller.name(),
+            r.depth * 1e3,
+            r.band_peak * 1e6,
+            r.band_integrated * 1e6,
+            r.window_rms * 1e6,
+            100.0 * r.saturation_duty
+        );
+    }
+    let path = s.out.join("depth_study.md");
+    std::fs::write(&path, &md).map_err(|e| StudyError::io(&path, e))?;
+    Ok(md)
 }

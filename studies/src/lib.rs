@@ -72,16 +72,23 @@
 //! | [`robustness`] | seed 000 Table 7: the 19-point × 2-seed sample and its statistics |
 //! | [`robustness_cases`] | the robustness sample as independent cases (`chatter plan robustness`, `run`, `collect`) |
 //! | [`sweeps`] | seed 000 Figure 15: feed and engagement sweeps, harmonic balance, closed-form lobe minimum |
+//! | [`sweep_cases`] | the sweeps as independent cases (`chatter plan sweep`, `run`, `collect`) |
+//! | [`depth_cases`] | the depth study as independent cases (`chatter plan depth-study`, `run`, `collect`) |
+//! | [`tune_cases`] | PSO runs as independent cases (`chatter plan tune`, `run`, `collect`): Table A1, tuned JSON |
+//! | [`lobes_cases`] | lobe diagrams over speed chunks as independent cases (`chatter plan lobes`, `run`, `collect`) |
 //! | [`map`] | seed 000 Figure 16: the speed × depth map and its growth check against the lobes |
 //! | [`map_cases`] | the map as independent cases (`chatter plan map`, `run`, `collect`) |
+//! | [`batch_cases`] | the one case study of a batch of independent runs (map, robustness, sweeps, depth study, lobe chunks, PSO runs) |
 //! | [`cases`] | a study as independent cases: plan (manifest), run any subset anywhere (shards, Slurm arrays, Dask), collect |
 
 pub mod afrac;
 pub mod afrac_fmu;
 pub mod batch;
+pub mod batch_cases;
 pub mod cases;
 pub mod closed_loop;
 pub mod decomposed;
+pub mod depth_cases;
 pub mod depth_study;
 pub mod dsmc;
 mod error;
@@ -90,6 +97,7 @@ pub mod fmu_params;
 pub mod fmu_validation;
 pub mod froh;
 pub mod lobes;
+pub mod lobes_cases;
 pub mod loop_frf;
 pub mod main_job;
 pub mod map;
@@ -102,9 +110,11 @@ pub mod scenario;
 pub mod sd_lobes;
 pub mod sd_validation;
 pub mod seed002;
+pub mod sweep_cases;
 pub mod sweeps;
 pub mod synth;
 pub mod table8;
+pub mod tune_cases;
 pub mod tuning;
 pub mod validation;
 

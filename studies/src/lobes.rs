@@ -248,7 +248,7 @@ impl FrfGrid {
 }
 
 /// The critical (limiting) depth at one speed.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CriticalPoint {
     /// Spindle speed \[rpm\].
     pub rpm: f64,

@@ -4,7 +4,8 @@
 
 use crate::StudyError;
 use crate::batch::{Metrics, RowSink, Windows, run_one};
-use crate::cases::{CaseStudy, Collected};
+use crate::batch_cases::{Batch, RunBatch};
+use crate::cases::Collected;
 use crate::fmu_params::{gain_preset, overrides_of};
 use crate::map::{CSV_HEADER, Cell, MapJob, MapStudy, csv_row, jobs, write_report};
 use crate::scenario::{Roles, closed_loop_system, roles};
@@ -83,14 +84,17 @@ impl MapSpec {
     }
 }
 
-/// The map, ready to run cases.
-pub struct MapCases {
+/// The map's runs, ready to run as cases.
+pub struct MapRuns {
     spec: MapSpec,
     sys: SystemFile,
     roles: Roles,
     study: MapStudy,
     jobs: Vec<MapJob>,
 }
+
+/// The map as a [`CaseStudy`](crate::cases::CaseStudy).
+pub type MapCases = Batch<MapRuns>;
 
 /// One cell of one controller.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -105,18 +109,10 @@ pub struct MapCase {
     pub at: (f64, f64),
 }
 
-impl MapCases {
-    fn find(&self, c: &MapCase) -> Result<&MapJob> {
-        self.jobs
-            .iter()
-            .find(|x| x.controller.name() == c.controller && x.i == c.i && x.j == c.j)
-            .ok_or_else(|| StudyError::Invalid(format!("case {c:?} is not a cell of this map")))
-    }
-}
-
-impl CaseStudy for MapCases {
+impl RunBatch for MapRuns {
     const KIND: &'static str = "map";
     type Spec = MapSpec;
+    type Job = MapJob;
     type Case = MapCase;
     type Output = Metrics;
 
@@ -129,41 +125,37 @@ impl CaseStudy for MapCases {
         let roles = roles(&sys)?;
         let study = spec.study(&roles, Path::new("."))?;
         let jobs = jobs(&sys, &study)?;
-        Ok(MapCases { spec, sys, roles, study, jobs })
+        Ok(MapRuns { spec, sys, roles, study, jobs })
     }
 
-    fn cases(&self) -> Result<Vec<(String, MapCase)>> {
-        Ok(self
-            .jobs
-            .iter()
-            .map(|x| {
-                let c = MapCase {
-                    controller: x.controller.name().to_string(),
-                    i: x.i,
-                    j: x.j,
-                    at: (self.study.depths[x.i] * 1e3, self.study.rpm[x.j]),
-                };
-                (format!("{}-d{:02}-n{:02}", c.controller, c.i, c.j), c)
-            })
-            .collect())
+    fn jobs(&self) -> &[MapJob] {
+        &self.jobs
     }
 
-    fn run_case(&self, _dir: &Path, id: &str, case: &MapCase, say: &(dyn Fn(String) + Sync)) -> Result<Metrics> {
-        let job = self.find(case)?;
-        let m = run_one(&self.sys, &self.roles, job.overrides.clone(), &self.study.windows)?;
-        say(format!("{id}: {} mm, {} rpm: RMS {:.3} µm", case.at.0, case.at.1, m.rms * 1e6));
-        Ok(m)
+    fn case_of(&self, x: &MapJob) -> (String, MapCase) {
+        let c = MapCase {
+            controller: x.controller.name().to_string(),
+            i: x.i,
+            j: x.j,
+            at: (self.study.depths[x.i] * 1e3, self.study.rpm[x.j]),
+        };
+        (format!("{}-d{:02}-n{:02}", c.controller, c.i, c.j), c)
     }
 
-    fn collect(&self, dir: &Path, results: &[(String, MapCase, Metrics)]) -> Result<Collected> {
+    fn run_job(&self, job: &MapJob) -> Result<Metrics> {
+        run_one(&self.sys, &self.roles, job.overrides.clone(), &self.study.windows)
+    }
+
+    fn describe(&self, x: &MapJob, m: &Metrics) -> String {
+        format!("{} mm, {} rpm: RMS {:.3} µm", self.study.depths[x.i] * 1e3, self.study.rpm[x.j], m.rms * 1e6)
+    }
+
+    fn report(&self, dir: &Path, runs: &[(&MapJob, &Metrics)]) -> Result<Collected> {
         let study = MapStudy { out: dir.to_path_buf(), ..self.study.clone() };
-        let cells = results
+        let cells: Vec<Cell> = runs
             .iter()
-            .map(|(_, c, m)| {
-                let job = self.find(c)?;
-                Ok(Cell { controller: job.controller, i: job.i, j: job.j, metrics: *m, b_lim: job.b_lim })
-            })
-            .collect::<Result<Vec<_>>>()?;
+            .map(|(x, m)| Cell { controller: x.controller, i: x.i, j: x.j, metrics: **m, b_lim: x.b_lim })
+            .collect();
         let csv = RowSink::create(&dir.join("map.csv"), CSV_HEADER)?;
         for c in &cells {
             csv.row(&csv_row(&study, c))?;

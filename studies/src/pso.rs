@@ -48,7 +48,7 @@ impl Default for PsoConfig {
 }
 
 /// Result of one run.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct PsoResult {
     /// Best position.
     pub best_x: Vec<f64>,

@@ -6,7 +6,8 @@
 
 use crate::StudyError;
 use crate::batch::{Metrics, RowSink, Windows, run_one};
-use crate::cases::{CaseStudy, Collected};
+use crate::batch_cases::{Batch, RunBatch};
+use crate::cases::Collected;
 use crate::fmu_params::{gain_preset, overrides_of};
 use crate::robustness::{CSV_HEADER, Group, Point, Robustness, Run, csv_row, runs, sample_with, write_report};
 use crate::scenario::{Roles, closed_loop_system, roles};
@@ -97,14 +98,17 @@ impl RobustnessSpec {
     }
 }
 
-/// The robustness study, ready to run cases.
-pub struct RobustnessCases {
+/// The robustness study's runs, ready to run as cases.
+pub struct RobustnessRuns {
     spec: RobustnessSpec,
     sys: SystemFile,
     roles: Roles,
     study: Robustness,
     runs: Vec<Run>,
 }
+
+/// The robustness sample as a [`CaseStudy`](crate::cases::CaseStudy).
+pub type RobustnessCases = Batch<RobustnessRuns>;
 
 /// One case: a controller at a point with a noise seed.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -119,18 +123,10 @@ pub struct RobustnessCase {
     pub seed: i32,
 }
 
-impl RobustnessCases {
-    fn find(&self, c: &RobustnessCase) -> Result<&Run> {
-        self.runs
-            .iter()
-            .find(|r| r.controller.name() == c.controller && r.point == c.point && r.seed == c.seed)
-            .ok_or_else(|| StudyError::Invalid(format!("case {c:?} is not a run of this study")))
-    }
-}
-
-impl CaseStudy for RobustnessCases {
+impl RunBatch for RobustnessRuns {
     const KIND: &'static str = "robustness";
     type Spec = RobustnessSpec;
+    type Job = Run;
     type Case = RobustnessCase;
     type Output = Metrics;
 
@@ -144,35 +140,34 @@ impl CaseStudy for RobustnessCases {
         // the output folder is the study folder given to collect; the study itself never writes
         let study = spec.study(&roles, Path::new("."))?;
         let runs = runs(&sys, &study)?;
-        Ok(RobustnessCases { spec, sys, roles, study, runs })
+        Ok(RobustnessRuns { spec, sys, roles, study, runs })
     }
 
-    fn cases(&self) -> Result<Vec<(String, RobustnessCase)>> {
-        Ok(self
-            .runs
-            .iter()
-            .map(|r| {
-                let c = RobustnessCase {
-                    controller: r.controller.name().to_string(),
-                    point: r.point,
-                    point_name: self.study.points[r.point].name.clone(),
-                    seed: r.seed,
-                };
-                (format!("{}-p{:02}-s{}", c.controller, c.point, c.seed), c)
-            })
-            .collect())
+    fn jobs(&self) -> &[Run] {
+        &self.runs
     }
 
-    fn run_case(&self, _dir: &Path, id: &str, case: &RobustnessCase, say: &(dyn Fn(String) + Sync)) -> Result<Metrics> {
-        let run = self.find(case)?;
-        let m = run_one(&self.sys, &self.roles, run.overrides.clone(), &self.study.windows)?;
-        say(format!("{id}: {} at {}: RMS {:.3} µm", case.controller, case.point_name, m.rms * 1e6));
-        Ok(m)
+    fn case_of(&self, r: &Run) -> (String, RobustnessCase) {
+        let c = RobustnessCase {
+            controller: r.controller.name().to_string(),
+            point: r.point,
+            point_name: self.study.points[r.point].name.clone(),
+            seed: r.seed,
+        };
+        (format!("{}-p{:02}-s{}", c.controller, c.point, c.seed), c)
     }
 
-    fn collect(&self, dir: &Path, results: &[(String, RobustnessCase, Metrics)]) -> Result<Collected> {
+    fn run_job(&self, run: &Run) -> Result<Metrics> {
+        run_one(&self.sys, &self.roles, run.overrides.clone(), &self.study.windows)
+    }
+
+    fn describe(&self, r: &Run, m: &Metrics) -> String {
+        format!("{} at {}: RMS {:.3} µm", r.controller.name(), self.study.points[r.point].name, m.rms * 1e6)
+    }
+
+    fn report(&self, dir: &Path, runs: &[(&Run, &Metrics)]) -> Result<Collected> {
         let study = Robustness { out: dir.to_path_buf(), ..self.study.clone() };
-        let rows = results.iter().map(|(_, c, m)| Ok((self.find(c)?.clone(), *m))).collect::<Result<Vec<_>>>()?;
+        let rows: Vec<(Run, Metrics)> = runs.iter().map(|(r, m)| ((*r).clone(), **m)).collect();
         let csv = RowSink::create(&dir.join("robustness.csv"), CSV_HEADER)?;
         for (r, m) in &rows {
             csv.row(&csv_row(&study, r, m))?;

@@ -23,17 +23,18 @@
 
 use crate::StudyError;
 use crate::batch::{Metrics, RowSink, Windows, run_all, run_one};
-use crate::fmu_params::resolve;
+use crate::fmu_params::{Resolved, resolve};
 use crate::lobes::speed_grid;
 use crate::loop_frf::{self, LoopFrf};
 use crate::robustness::{base_plant, plant_overrides};
-use crate::scenario::roles;
+use crate::scenario::{Roles, roles};
 use chatter_control::{ControllerParams, Structure};
 use fmi_master::{Override, SystemFile};
 use milling_plant::PlantParams;
 use model_description::Value;
 use model_kit::Choice;
 use std::f64::consts::PI;
+use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// The seed's feed slopes (µm/mm).
@@ -176,8 +177,37 @@ pub fn slope(x: &[f64], y: &[f64]) -> f64 {
     sxy / sxx
 }
 
-/// Run the sweep through the FMUs (rows streamed to `<out>/sweep_<kind>.csv`).
-pub fn run(sys: &SystemFile, s: &Sweep) -> Result<Vec<SweepRow>, StudyError> {
+impl Kind {
+    /// `feed` or `engagement` (file names, CSV header, titles).
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Feed => "feed",
+            Kind::Engagement => "engagement",
+        }
+    }
+}
+
+/// One run of a sweep, resolved.
+#[derive(Clone, Debug)]
+pub struct SweepJob {
+    /// Controller.
+    pub controller: Structure,
+    /// Swept value \[m\].
+    pub value: f64,
+    /// Every override of the run.
+    pub overrides: Vec<Override>,
+    /// The plant as the FMU resolves it.
+    pub plant: Resolved<PlantParams, milling_plant::PlantInputs>,
+    /// The controller as the FMU resolves it.
+    pub ctrl: ControllerParams,
+}
+
+/// What one run measures: the FMU metrics, the harmonic balance and the lobe minimum by solver
+/// and closed form (NaN for the feed sweep), SI units.
+pub type SweepOutput = (Metrics, f64, f64, f64);
+
+/// Every run of the sweep (controller × value).
+pub fn jobs(sys: &SystemFile, s: &Sweep) -> Result<Vec<SweepJob>, StudyError> {
     if s.values.is_empty() || s.controllers.is_empty() {
         return Err(StudyError::Invalid("the sweep needs at least one value and one controller".into()));
     }
@@ -187,10 +217,7 @@ pub fn run(sys: &SystemFile, s: &Sweep) -> Result<Vec<SweepRow>, StudyError> {
     s.windows.validate()?;
     let roles = roles(sys)?;
     let base = base_plant(sys, &roles)?;
-    let name = match s.kind {
-        Kind::Feed => "feed",
-        Kind::Engagement => "engagement",
-    };
+    let name = s.kind.name();
     let mut jobs = Vec::new();
     for &c in &s.controllers {
         for &v in &s.values {
@@ -211,46 +238,138 @@ pub fn run(sys: &SystemFile, s: &Sweep) -> Result<Vec<SweepRow>, StudyError> {
             let mut o = s.gains.clone();
             o.extend(plant_overrides(&roles, &(p, i)));
             o.push(Override::typed(format!("{}.structure", roles.controller), Value::Integer(c.index())));
-            let pr = resolve::<fmu_plant::MillingPlant>(sys, &roles.plant, &o)?;
-            let cr = resolve::<fmu_controller::ChatterController>(sys, &roles.controller, &o)?;
-            jobs.push((c, v, o, pr, cr.params));
+            let plant = resolve::<fmu_plant::MillingPlant>(sys, &roles.plant, &o)?;
+            let ctrl = resolve::<fmu_controller::ChatterController>(sys, &roles.controller, &o)?.params;
+            jobs.push(SweepJob { controller: c, value: v, overrides: o, plant, ctrl });
         }
     }
-    let sink = RowSink::create(
-        &s.out.join(format!("sweep_{name}.csv")),
-        &format!(
-            "controller,{name}_mm,rms_um,rms_detrended_um,harmonic_balance_um,saturation_duty,b_lim_solver_mm,b_lim_closed_form_mm"
-        ),
-    )?;
+    Ok(jobs)
+}
+
+/// Run one job through the FMUs, with its two checks.
+pub fn run_job(sys: &SystemFile, roles: &Roles, s: &Sweep, j: &SweepJob) -> Result<SweepOutput, StudyError> {
+    let metrics = run_one(sys, roles, j.overrides.clone(), &s.windows)?;
+    let i = &j.plant.inputs;
+    let harmonic = harmonic_rms(&j.plant.params, Some(&j.ctrl), i.spindle_speed_rpm, i.feed_per_tooth)?;
+    let (b_lim_solver, b_lim_closed) = match s.kind {
+        Kind::Engagement => lobe_minimum(&j.plant.params)?,
+        Kind::Feed => (f64::NAN, f64::NAN),
+    };
+    Ok((metrics, harmonic, b_lim_solver, b_lim_closed))
+}
+
+/// A job and its output as a row.
+pub fn row(j: &SweepJob, (metrics, harmonic, b_lim_solver, b_lim_closed): &SweepOutput) -> SweepRow {
+    SweepRow {
+        controller: j.controller,
+        value: j.value,
+        metrics: *metrics,
+        harmonic: *harmonic,
+        b_lim_solver: *b_lim_solver,
+        b_lim_closed: *b_lim_closed,
+    }
+}
+
+/// The header of `sweep_<kind>.csv`.
+pub fn csv_header(kind: Kind) -> String {
+    format!(
+        "controller,{}_mm,rms_um,rms_detrended_um,harmonic_balance_um,saturation_duty,b_lim_solver_mm,b_lim_closed_form_mm",
+        kind.name()
+    )
+}
+
+/// One row of `sweep_<kind>.csv`.
+pub fn csv_row(r: &SweepRow) -> String {
+    format!(
+        "{},{},{:.6},{:.6},{:.6},{:.6},{:.12e},{:.12e}",
+        r.controller.name(),
+        mm(r.value),
+        r.metrics.rms * 1e6,
+        r.metrics.rms_detrended * 1e6,
+        r.harmonic * 1e6,
+        r.metrics.saturation_duty,
+        r.b_lim_solver * 1e3,
+        r.b_lim_closed * 1e3
+    )
+}
+
+/// Run the sweep through the FMUs (rows streamed to `<out>/sweep_<kind>.csv`).
+pub fn run(sys: &SystemFile, s: &Sweep) -> Result<Vec<SweepRow>, StudyError> {
+    let jobs = jobs(sys, s)?;
+    let roles = roles(sys)?;
+    let name = s.kind.name();
+    let sink = RowSink::create(&s.out.join(format!("sweep_{name}.csv")), &csv_header(s.kind))?;
     run_all(
         &jobs,
         name,
         &sink,
-        |j| format!("{} at {name} {} mm", j.0.name(), j.1 * 1e3),
-        |(c, v, o, pr, cp)| {
-            let metrics = run_one(sys, &roles, o.clone(), &s.windows)?;
-            let i = &pr.inputs;
-            let harmonic = harmonic_rms(&pr.params, Some(cp), i.spindle_speed_rpm, i.feed_per_tooth)?;
-            let (b_lim_solver, b_lim_closed) = match s.kind {
-                Kind::Engagement => lobe_minimum(&pr.params)?,
-                Kind::Feed => (f64::NAN, f64::NAN),
-            };
-            Ok(SweepRow { controller: *c, value: *v, metrics, harmonic, b_lim_solver, b_lim_closed })
-        },
-        |_, r| {
-            format!(
-                "{},{},{:.6},{:.6},{:.6},{:.6},{:.12e},{:.12e}",
-                r.controller.name(),
-                mm(r.value),
-                r.metrics.rms * 1e6,
-                r.metrics.rms_detrended * 1e6,
-                r.harmonic * 1e6,
-                r.metrics.saturation_duty,
-                r.b_lim_solver * 1e3,
-                r.b_lim_closed * 1e3
-            )
-        },
+        |j| format!("{} at {name} {} mm", j.controller.name(), j.value * 1e3),
+        |j| Ok(row(j, &run_job(sys, &roles, s, j)?)),
+        |_, r| csv_row(r),
     )
+}
+
+/// `sweep_<kind>.md` and `.png` in `s.out` from the rows (sorted by controller and value): the
+/// table (the harmonic-balance deviation, the engagement sweep's lobe minima), the feed slopes
+/// beside the seed's, the figure. `preset` names the gains; `wall` (the local command's run
+/// time \[s\]) goes into the title. Returns the markdown.
+pub fn report(s: &Sweep, rows: &[SweepRow], preset: &str, wall: Option<f64>) -> Result<String, StudyError> {
+    let (kind, name, stop) = (s.kind, s.kind.name(), s.windows.stop);
+    let mut rows = rows.to_vec();
+    rows.sort_by(|x, y| (x.controller.index(), x.value).partial_cmp(&(y.controller.index(), y.value)).expect("finite"));
+    let eng = kind == Kind::Engagement;
+    let mut md = format!(
+        "Sweep of the {name} (seed 000 Figure 15; {preset} gains; noise seed {}{}; {stop} s runs, RMS over (1, {stop}] s{})\n\n| controller | {name} (mm) | raw RMS (µm) | detrended RMS (µm) | harmonic balance (µm) | Δ % | saturation duty |{}\n|---|---|---|---|---|---|---|{}\n",
+        s.seed,
+        if s.quiet { ", noise and drift OFF" } else { ", noise and drift on" },
+        wall.map_or(String::new(), |w| format!("; {w:.0} s wall")),
+        if eng { " open-loop b_lim solver / closed form (mm) |" } else { "" },
+        if eng { "---|" } else { "" },
+    );
+    for x in &rows {
+        let _ = write!(
+            md,
+            "| {} | {} | {:.3} | {:.3} | {:.3} | {:+.2} | {:.1} % |",
+            x.controller.name(),
+            mm(x.value),
+            x.metrics.rms * 1e6,
+            x.metrics.rms_detrended * 1e6,
+            x.harmonic * 1e6,
+            100.0 * (x.metrics.rms_detrended / x.harmonic - 1.0),
+            100.0 * x.metrics.saturation_duty
+        );
+        if eng {
+            let _ = write!(md, " {:.6} / {:.6} |", x.b_lim_solver * 1e3, x.b_lim_closed * 1e3);
+        }
+        md.push('\n');
+    }
+    let mut curves = Vec::new();
+    for &c in &s.controllers {
+        let pts: Vec<(f64, f64)> =
+            rows.iter().filter(|x| x.controller == c).map(|x| (mm(x.value), x.metrics.rms * 1e6)).collect();
+        if kind == Kind::Feed && pts.len() > 1 {
+            let (fx, fy): (Vec<f64>, Vec<f64>) = pts.iter().copied().unzip();
+            let seed = SEED_FEED_SLOPES.iter().find(|(x, _)| *x == c).map_or("–".into(), |(_, v)| format!("{v:.0}"));
+            let _ = write!(
+                md,
+                "\nRMS slope against f_z, {}: {:.1} µm/mm (seed ≈ {seed} µm/mm).",
+                c.name(),
+                slope(&fx, &fy)
+            );
+        }
+        curves.push((c.name().to_string(), pts));
+    }
+    md.push('\n');
+    crate::figures::plot_xy(
+        &s.out.join(format!("sweep_{name}.png")),
+        &format!("RMS tip displacement against the {name} (cf. seed Figure 15)"),
+        &format!("{name} [mm]"),
+        "RMS x [µm]",
+        &curves,
+    )?;
+    let path = s.out.join(format!("sweep_{name}.md"));
+    std::fs::write(&path, &md).map_err(|e| StudyError::io(&path, e))?;
+    Ok(md)
 }
 
 #[cfg(test)]

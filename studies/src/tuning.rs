@@ -77,7 +77,7 @@ impl Default for SaturationCheck {
 }
 
 /// Outcome of the saturation check.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SaturationReport {
     /// Did the unsaturated command exceed `u_max` (or the plant diverge)?
     pub exceeded: bool,
@@ -211,7 +211,7 @@ pub fn gains_of(c: &ControllerParams) -> Vec<f64> {
 }
 
 /// Breakdown of one cost evaluation.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CostBreakdown {
     /// Minimum closed-loop critical depth over the speed set \[mm\].
     pub b_min_mm: f64,
@@ -339,7 +339,7 @@ impl TuningProblem {
 }
 
 /// Result of one tuning run.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct TuningRun {
     /// PSO seed.
     pub seed: u64,

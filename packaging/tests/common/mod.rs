@@ -15,7 +15,11 @@ pub fn packaged_binary(id: &str, folder: &str, tmp: &Path) -> Option<PathBuf> {
     let f = std::fs::File::open(&fmu)
         .unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -p packaging`)", fmu.display()));
     let mut z = zip::ZipArchive::new(f).unwrap();
-    let ext = if folder.starts_with("win") { "dll" } else { "so" };
+    let ext = match folder {
+        f if f.starts_with("win") => "dll",
+        f if f.starts_with("darwin") => "dylib",
+        _ => "so",
+    };
     let name = format!("binaries/{folder}/{id}.{ext}");
     let mut entry = z.by_name(&name).ok()?;
     let dir = tmp.join(folder);

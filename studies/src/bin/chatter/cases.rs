@@ -5,9 +5,13 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use std::path::{Path, PathBuf};
 use studies::cases::{self, CaseStudy, Selection};
+use studies::depth_cases::DepthCases;
+use studies::lobes_cases::LobesCases;
 use studies::main_job::MainJob;
 use studies::map_cases::MapCases;
 use studies::robustness_cases::RobustnessCases;
+use studies::sweep_cases::SweepCases;
+use studies::tune_cases::TuneCases;
 
 #[derive(Subcommand)]
 pub enum PlanCmd {
@@ -19,6 +23,18 @@ pub enum PlanCmd {
     /// The speed × depth map (Figure 16): one case per controller × speed × depth; `--out` is
     /// the study folder.
     Map(crate::map::MapArgs),
+    /// The feed or engagement sweep (Figure 15): one case per controller × value; `--out` is
+    /// the study folder.
+    Sweep(crate::sweep::SweepArgs),
+    /// The depth study (Figures 9–10): one case per controller × depth; `--out` is the study
+    /// folder.
+    DepthStudy(crate::depth_study::DepthStudyArgs),
+    /// Lobe diagrams: one case per chunk of `--chunk` speeds (every controller); `--out` is the
+    /// study folder (lobes.csv, lobes.png).
+    Lobes(crate::lobes::LobesPlanArgs),
+    /// PSO tuning: one case per structure × independent run (its seed); `--out` is the study
+    /// folder (table_a1.md, tuned_*.json, tuning_runs.csv).
+    Tune(crate::tune::TuneArgs),
 }
 
 #[derive(Args)]
@@ -65,7 +81,17 @@ pub fn plan(cmd: &PlanCmd) -> Result<()> {
             let n = cases::plan(&study, &a.out)?;
             println!("planned {n} cases of {} in {}", MapCases::KIND, a.out.display());
         }
+        PlanCmd::Sweep(a) => planned(&SweepCases::from_spec(a.spec()?)?, &a.out)?,
+        PlanCmd::DepthStudy(a) => planned(&DepthCases::from_spec(a.spec())?, &a.out)?,
+        PlanCmd::Lobes(a) => planned(&LobesCases::from_spec(a.spec()?)?, &a.lobes.out)?,
+        PlanCmd::Tune(a) => planned(&TuneCases::from_spec(a.spec()?)?, &a.out)?,
     }
+    Ok(())
+}
+
+fn planned<S: CaseStudy>(study: &S, out: &Path) -> Result<()> {
+    let n = cases::plan(study, out)?;
+    println!("planned {n} cases of {} in {}", S::KIND, out.display());
     Ok(())
 }
 
@@ -102,6 +128,10 @@ pub fn run(a: &RunArgs) -> Result<()> {
         MainJob::KIND => run_as::<MainJob>(&a.dir, &sel),
         RobustnessCases::KIND => run_as::<RobustnessCases>(&a.dir, &sel),
         MapCases::KIND => run_as::<MapCases>(&a.dir, &sel),
+        SweepCases::KIND => run_as::<SweepCases>(&a.dir, &sel),
+        DepthCases::KIND => run_as::<DepthCases>(&a.dir, &sel),
+        LobesCases::KIND => run_as::<LobesCases>(&a.dir, &sel),
+        TuneCases::KIND => run_as::<TuneCases>(&a.dir, &sel),
         other => bail!("{}: unknown study {other:?}", a.dir.display()),
     }
 }
@@ -111,6 +141,10 @@ pub fn collect(a: &CollectArgs) -> Result<()> {
         MainJob::KIND => cases::collect::<MainJob>(&a.dir)?,
         RobustnessCases::KIND => cases::collect::<RobustnessCases>(&a.dir)?,
         MapCases::KIND => cases::collect::<MapCases>(&a.dir)?,
+        SweepCases::KIND => cases::collect::<SweepCases>(&a.dir)?,
+        DepthCases::KIND => cases::collect::<DepthCases>(&a.dir)?,
+        LobesCases::KIND => cases::collect::<LobesCases>(&a.dir)?,
+        TuneCases::KIND => cases::collect::<TuneCases>(&a.dir)?,
         other => bail!("{}: unknown study {other:?}", a.dir.display()),
     };
     println!("{}", collected.text);

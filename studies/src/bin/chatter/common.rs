@@ -92,12 +92,5 @@ pub fn loop_checks(plant: &PlantParams, c: &ControllerParams) -> Result<(String,
 }
 
 pub fn fmt_ex(ex: &Extremes) -> String {
-    format!(
-        "b_min {:.3} mm at {:.1} rpm ({:.2} Hz), b_max {:.3} mm at {:.1} rpm",
-        ex.min.depth * 1e3,
-        ex.min.rpm,
-        ex.min.chatter_hz,
-        ex.max.depth * 1e3,
-        ex.max.rpm
-    )
+    studies::lobes_cases::fmt_extremes(ex)
 }

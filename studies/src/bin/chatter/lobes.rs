@@ -16,6 +16,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 use studies::fmu_params::{self, Resolved};
 use studies::lobes::speed_grid;
+use studies::lobes_cases::LobesSpec;
 use studies::output::{Series, plot_png, write_csv};
 
 #[derive(Args)]
@@ -83,7 +84,44 @@ fn machine(a: &LobesArgs) -> Result<(PlantParams, ControllerParams)> {
     Ok((plant.params, ctrl.params))
 }
 
-pub fn lobes(a: &LobesArgs) -> Result<()> {
+/// `chatter plan lobes`: the lobes' options and the chunk size.
+#[derive(Args)]
+pub struct LobesPlanArgs {
+    #[command(flatten)]
+    pub lobes: LobesArgs,
+    /// Speeds per case.
+    #[arg(long, default_value_t = 200)]
+    pub chunk: usize,
+}
+
+impl LobesPlanArgs {
+    /// The study's spec (what `chatter plan lobes` writes into the manifest).
+    pub fn spec(&self) -> Result<LobesSpec> {
+        let a = &self.lobes;
+        check_range(a)?;
+        let (plant, base) = machine(a)?;
+        let controllers = a
+            .controllers
+            .iter()
+            .map(|n| Ok((n.clone(), controller_from(&base, structure_by_name(n)?, &a.gains)?)))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(LobesSpec {
+            title: title(a),
+            plant,
+            controllers,
+            rpm_min: a.rpm_min,
+            rpm_max: a.rpm_max,
+            points: a.points,
+            chunk: self.chunk,
+        })
+    }
+}
+
+fn title(a: &LobesArgs) -> String {
+    format!("Stability lobes, {} plant", a.system.as_ref().map_or(a.plant.clone(), |p| p.display().to_string()))
+}
+
+fn check_range(a: &LobesArgs) -> Result<()> {
     ensure!(
         a.rpm_min.is_finite() && a.rpm_min > 0.0 && a.rpm_max.is_finite() && a.rpm_max > a.rpm_min,
         "the speed range [{}, {}] rpm is empty or not positive (need 0 < --rpm-min < --rpm-max)",
@@ -91,6 +129,11 @@ pub fn lobes(a: &LobesArgs) -> Result<()> {
         a.rpm_max
     );
     ensure!(a.points >= 2, "--points {}: need at least 2 speeds", a.points);
+    Ok(())
+}
+
+pub fn lobes(a: &LobesArgs) -> Result<()> {
+    check_range(a)?;
     let (plant, base) = machine(a)?;
     let rpm = speed_grid(a.rpm_min, a.rpm_max, a.points);
     let mut series = Vec::new();
@@ -108,13 +151,7 @@ pub fn lobes(a: &LobesArgs) -> Result<()> {
     let csv = a.out.join("lobes.csv");
     let png = a.out.join("lobes.png");
     write_csv(&csv, &series)?;
-    plot_png(
-        &png,
-        &format!("Stability lobes, {} plant", a.system.as_ref().map_or(a.plant.clone(), |p| p.display().to_string())),
-        &series,
-        1200,
-        800,
-    )?;
+    plot_png(&png, &title(a), &series, 1200, 800)?;
     println!("wrote {} and {}", csv.display(), png.display());
     Ok(())
 }

@@ -17,6 +17,7 @@
 //! chatter dsmc [--quick] [--ts 1e-4] [--sigma 0.17] [--u-max 2000] [--out dsmc-out]
 //! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
 //! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
+//! chatter plan robustness|map|sweep KIND|depth-study|lobes [--chunk N]|tune --out DIR [options]
 //! chatter run DIR [--shard I/N | --index K | --case ID,.. | --slurm-array]
 //! chatter collect DIR
 //! chatter robustness [--preset tuned|table2] [--seeds 1,2] [--stop-time 30] [--groups ..] [--quiet] [--quick]

@@ -2,15 +2,11 @@
 
 use crate::common::*;
 use anyhow::{Context, Result};
-use chatter_control::Structure;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use model_kit::Choice;
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::Instant;
-use studies::pso::PsoConfig;
-use studies::tuning::{self, TuningProblem, TuningRun, mean_std};
+use studies::tune_cases::{CSV_HEADER, TABLE_HEADER, TuneSpec, csv_line, json_run, table_row};
 
 #[derive(Args)]
 pub struct TuneArgs {
@@ -56,55 +52,38 @@ pub struct TuneArgs {
     pub quiet: bool,
 }
 
-pub fn json_run(r: &TuningRun, structure: Structure, names: &[tuning::ParamSpec]) -> String {
-    let mut s = format!("{{\n  \"structure\": \"{}\",\n  \"seed\": {},\n  \"gains\": {{", structure.name(), r.seed);
-    for (i, (n, v)) in names.iter().zip(&r.gains).enumerate() {
-        let _ = write!(s, "{}\"{}\": {:e}", if i == 0 { "" } else { ", " }, n.name, v);
+impl TuneArgs {
+    /// The study's spec (what `chatter plan tune` writes into the manifest).
+    pub fn spec(&self) -> Result<TuneSpec> {
+        let mut plant = plant_by_name(&self.plant)?;
+        plant.workpiece.modes = self.modes;
+        let spec = TuneSpec {
+            plant,
+            structures: self.structures.clone(),
+            runs: self.runs,
+            seed: self.seed,
+            particles: self.particles,
+            iterations: self.iterations,
+            check_duration: self.check_duration,
+            margin: self.margin,
+            check_seeds: self.check_seeds,
+            adrc_observer: self.adrc_observer,
+        };
+        spec.validate()?;
+        Ok(spec)
     }
-    let sat = r.breakdown.saturation;
-    let _ = write!(
-        s,
-        "}},\n  \"b_min_mm\": {:.6},\n  \"rpm_at_min\": {:.3},\n  \"cost\": {:.6},\n  \"saturated\": {},\n  \"peak_u_N\": {:.4}\n}}\n",
-        r.breakdown.b_min_mm,
-        r.breakdown.rpm_at_min,
-        r.breakdown.cost,
-        sat.is_none_or(|s| s.exceeded),
-        sat.map_or(f64::NAN, |s| s.peak_u)
-    );
-    s
 }
 
 pub fn tune(a: &TuneArgs) -> Result<()> {
-    let mut plant = plant_by_name(&a.plant)?;
-    anyhow::ensure!([1, 3].contains(&a.modes), "--modes {}: 1 or 3", a.modes);
-    anyhow::ensure!((0.0..1.0).contains(&a.margin), "--margin {}: must be in [0, 1)", a.margin);
-    plant.workpiece.modes = a.modes;
-    plant.validate().map_err(anyhow::Error::msg)?;
+    let spec = a.spec()?;
     std::fs::create_dir_all(&a.out)?;
-    let mut csv = String::from(
-        "structure,run_seed,kp,ki,kd,lambda,mu,omega_o,b0,b_min_mm,rpm_at_min,cost,saturated,peak_u_N,evaluations,seconds\n",
-    );
-    let mut table = String::from(
-        "| controller | n_p | best J (mm) | mean J ± std (mm) | CV % | mean k_conv | best gains (kp, ki, kd, λ, μ) | b_min (mm) at rpm | peak u (N) | saturation check passed, fresh noise seeds 101..110 (margin 0) |\n|---|---|---|---|---|---|---|---|---|---|\n",
-    );
-    for name in &a.structures {
-        let structure = structure_by_name(name)?;
-        if structure == Structure::Off {
-            continue;
-        }
-        let mut prob = TuningProblem::new(plant.clone(), structure);
-        prob.check.duration = a.check_duration;
-        prob.tune_observer = a.adrc_observer;
-        prob.check.margin = a.margin;
-        prob.check_seeds = (1..=a.check_seeds).collect();
+    let mut csv = String::from(CSV_HEADER);
+    let mut table = String::from(TABLE_HEADER);
+    for (name, structure) in spec.structures()? {
+        let prob = spec.problem(structure);
         let mut runs = Vec::new();
         for r in 0..a.runs {
-            let cfg = PsoConfig {
-                seed: a.seed + r as u64,
-                particles: a.particles,
-                iterations: a.iterations,
-                ..Default::default()
-            };
+            let cfg = spec.pso(r);
             let pb = if a.quiet { ProgressBar::hidden() } else { ProgressBar::new(a.iterations as u64) };
             pb.set_style(
                 ProgressStyle::with_template("{prefix} [{bar:30}] {pos}/{len} it  {msg}  ({elapsed})")
@@ -119,28 +98,7 @@ pub fn tune(a: &TuneArgs) -> Result<()> {
             });
             pb.finish_and_clear();
             let secs = t.elapsed().as_secs_f64();
-            let g = &run.gains;
-            let get = |i: usize| g.get(i).map_or(String::new(), |v| format!("{v:e}"));
-            let sat = run.breakdown.saturation;
-            let _ = writeln!(
-                csv,
-                "{name},{},{},{},{},{},{},{},{},{:.6},{:.3},{:.6},{},{:.4},{},{:.2}",
-                cfg.seed,
-                get(0),
-                get(1),
-                get(2),
-                get(3),
-                get(4),
-                get(5),
-                get(6),
-                run.breakdown.b_min_mm,
-                run.breakdown.rpm_at_min,
-                run.breakdown.cost,
-                sat.is_none_or(|s| s.exceeded),
-                sat.map_or(f64::NAN, |s| s.peak_u),
-                run.pso.evaluations,
-                secs
-            );
+            csv.push_str(&csv_line(&name, &run, secs));
             println!(
                 "{name} run {} (seed {}): J = {:.4} mm, b_min = {:.4} mm at {:.0} rpm, gains {:?}, {:.1} s",
                 r + 1,
@@ -153,39 +111,9 @@ pub fn tune(a: &TuneArgs) -> Result<()> {
             );
             runs.push(run);
         }
-        let costs: Vec<f64> = runs.iter().map(|r| r.breakdown.cost).collect();
-        let (m, s) = mean_std(&costs);
-        let best = runs.iter().min_by(|x, y| x.breakdown.cost.total_cmp(&y.breakdown.cost)).context("no runs")?;
+        let (row, best) = table_row(&name, &prob, &runs).context("no runs")?;
         std::fs::write(a.out.join(format!("tuned_{name}.json")), json_run(best, structure, &prob.space()))?;
-        // iteration at which the best cost is within 5 % of the run's final value (Table A1's k_conv)
-        let kconv: Vec<f64> = runs
-            .iter()
-            .map(|r| {
-                let f = r.pso.best_cost;
-                r.pso.history.iter().position(|h| (h - f).abs() <= 0.05 * f.abs()).unwrap_or(0) as f64
-            })
-            .collect();
-        // does the best controller also pass the check with other noise realizations?
-        let other_seeds = (101..111)
-            .filter(|&sd| {
-                let ch = tuning::SaturationCheck { seed: sd, margin: 0.0, ..prob.check };
-                ch.run(&plant, &best.params).is_ok_and(|r| !r.exceeded)
-            })
-            .count();
-        let _ = writeln!(
-            table,
-            "| {name} | {} | {:.4} | {:.4} ± {:.4} | {:.3} | {:.1} | {} | {:.4} at {:.0} | {:.2} | {other_seeds}/10 |",
-            best.gains.len(),
-            best.breakdown.cost,
-            m,
-            s,
-            100.0 * s / m.abs(),
-            mean_std(&kconv).0,
-            best.gains.iter().map(|v| format!("{v:.4e}")).collect::<Vec<_>>().join(", "),
-            best.breakdown.b_min_mm,
-            best.breakdown.rpm_at_min,
-            best.breakdown.saturation.map_or(f64::NAN, |s| s.peak_u)
-        );
+        table.push_str(&row);
     }
     std::fs::write(a.out.join("tuning_runs.csv"), &csv)?;
     std::fs::write(a.out.join("table_a1.md"), &table)?;
