@@ -39,6 +39,15 @@ cargo run --release -p packaging
 step "cargo test"
 cargo test --workspace --release
 
+# The wheel compiles in the background while the single-threaded steps below (valgrind, the
+# FMPy tests) run, so the second core is not idle; its log is printed when it is needed.
+cargo build --release -p fmi-master -p studies --bins
+rm -rf target/wheels
+(cd python && exec maturin build --profile fmu-release --zig --compatibility manylinux2014 \
+    -i "$root/.venv/bin/python" -o "$root/target/wheels") > target/wheel-build.log 2>&1 &
+wheel_pid=$!
+trap 'kill "$wheel_pid" 2>/dev/null || true' EXIT # a failing step below stops the build too
+
 step "leak check of the export layer (valgrind)"
 if command -v valgrind >/dev/null; then
     bin=$(cargo test --release -p fmi2-export --test c_api --no-run --message-format=json 2>/dev/null \
@@ -68,10 +77,13 @@ step "Python tests (FMPy)"
 FMU_DIR="$root/target/fmu" .venv/bin/python -m pytest -q tests/python
 
 step "Python package chatter_fmu: abi3 wheel for glibc 2.17 (maturin + zig), installed into a fresh venv"
-cargo build --release -p fmi-master -p studies --bins
-rm -rf target/wheels
-(cd python && maturin build --profile fmu-release --zig --compatibility manylinux2014 \
-    -i "$root/.venv/bin/python" -o "$root/target/wheels")
+if ! wait "$wheel_pid"; then
+    cat target/wheel-build.log >&2
+    echo "building the wheel FAILED (log above)" >&2
+    exit 1
+fi
+trap - EXIT
+tail -n 2 target/wheel-build.log
 python3 -m venv --clear target/wheel-venv
 target/wheel-venv/bin/python -m pip install --quiet --disable-pip-version-check target/wheels/chatter_fmu-*.whl pytest
 FMU_DIR="$root/target/fmu" target/wheel-venv/bin/python -m pytest -q python/tests
