@@ -3,13 +3,13 @@
 //! converts pointers to slices and strings and calls these methods.
 
 use crate::model::{
-    Environment, Fmi2Model, MAX_INTERNAL_STEPS_PER_CALL, ModelLog, Severity, StepError, Values, fnv1a64,
+    Environment, Fmi2Model, MAX_INTERNAL_STEPS_PER_CALL, MAX_VALUE_REFERENCE, ModelLog, Severity, StepError, Values,
+    fnv1a64,
 };
 use model_description::{
     Causality, Initial, ModelDescription, ScalarType, ScalarVariable, Value, ValueReference, Variability,
 };
 use serde::{Deserialize, Serialize};
-use std::collections::HashMap;
 
 /// FMI 2.0 co-simulation states (FMI 2.0.4, section 4.2.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -185,10 +185,49 @@ const SNAPSHOT_MAGIC: &[u8; 8] = b"CHFMUST\0";
 /// Version of the serialized state format; version 1 had no version field and no checksum.
 const SNAPSHOT_VERSION: u32 = 2;
 
+/// (API type, value reference) → position in the model description's variable list: one dense
+/// table per API type indexed by the value reference (at most [`MAX_VALUE_REFERENCE`]), so a
+/// lookup in `fmi2Get*`/`fmi2Set*` is one bounds-checked load instead of hashing.
+struct VarIndex([Vec<u32>; 4]);
+
+impl VarIndex {
+    const NONE: u32 = u32::MAX;
+
+    fn slot(ty: ScalarType) -> Option<usize> {
+        match ty {
+            ScalarType::Real => Some(0),
+            ScalarType::Integer => Some(1),
+            ScalarType::Boolean => Some(2),
+            ScalarType::String => Some(3),
+            ScalarType::Enumeration => None,
+        }
+    }
+
+    fn new(md: &ModelDescription) -> Self {
+        let mut t: [Vec<u32>; 4] = Default::default();
+        for (i, v) in md.variables().iter().enumerate() {
+            let vr = v.value_reference as usize;
+            // larger references are refused by `Values::from_description`
+            if let (Some(s), true) = (Self::slot(v.scalar_type().api_type()), vr <= MAX_VALUE_REFERENCE as usize) {
+                if t[s].len() <= vr {
+                    t[s].resize(vr + 1, Self::NONE);
+                }
+                t[s][vr] = i as u32;
+            }
+        }
+        VarIndex(t)
+    }
+
+    fn get(&self, ty: ScalarType, vr: ValueReference) -> Option<usize> {
+        let i = *self.0[Self::slot(ty)?].get(vr as usize)?;
+        (i != Self::NONE).then_some(i as usize)
+    }
+}
+
 /// One FMU instance.
 pub struct Instance<M: Fmi2Model> {
     md: &'static ModelDescription,
-    index: HashMap<(ScalarType, ValueReference), usize>,
+    index: VarIndex,
     /// Current state.
     pub state: State,
     env: Environment,
@@ -225,12 +264,7 @@ impl<M: Fmi2Model> Instance<M> {
     /// A new instance with start values.
     pub fn new(env: Environment, logging_on: bool, sink: Box<dyn LogSink>) -> Self {
         let md = M::description();
-        let index = md
-            .variables()
-            .iter()
-            .enumerate()
-            .map(|(i, v)| ((v.scalar_type().api_type(), v.value_reference), i))
-            .collect();
+        let index = VarIndex::new(md);
         Instance {
             md,
             index,
@@ -380,8 +414,8 @@ impl<M: Fmi2Model> Instance<M> {
     fn lookup(&self, call: &str, ty: ScalarType, vr: ValueReference) -> CallResult<&'static ScalarVariable> {
         let md = self.md;
         self.index
-            .get(&(ty, vr))
-            .map(|&i| &md.variables()[i])
+            .get(ty, vr)
+            .map(|i| &md.variables()[i])
             .ok_or_else(|| CallError::error(format!("{call}: unknown value reference {vr} for type {ty:?}")))
     }
 

@@ -64,6 +64,7 @@ pub static TABLE: LazyLock<Table<ProcessParams, ProcessInputs, ProcessOutputs>> 
                 112 "entry_angle"           [entry_angle]            "rad" [0.0, 3.2]    "entry angle phi_st (from +y, clockwise)";
                 113 "exit_angle"            [exit_angle]             "rad" [0.0, 3.2]    "exit angle phi_ex";
                 114 "axial_depth"           [axial_depth]            "m"   [0.0, 1.0]    "axial depth of cut a_p";
+                115 "depth_ramp_time"       [depth_ramp_time]        "s"   [0.0, 1e3]    "entry ramp: the depth rises linearly from 0 to a_p over this time after the start (0: at once)";
                 3   "law"                   [enum coefficients.law]  ""    []            "force law of one tooth";
                 120 "kt"                    [coefficients.kt]        ""    [0.0, 1e14]   "tangential coefficient K_t [N/m2 linear, N/m^(1+x_F) power]";
                 121 "kr"                    [coefficients.kr]        ""    [0.0, 1e14]   "radial coefficient K_r [as K_t]";

@@ -111,6 +111,10 @@ pub struct ProcessParams {
     pub exit_angle: f64,
     /// Axial depth of cut a_p [m].
     pub axial_depth: f64,
+    /// Entry ramp [s]: the depth in the cut rises linearly from 0 to `axial_depth` over this
+    /// time after the process's start (the tool feeding into the material), so the cut starts
+    /// without the impulse of a full engagement at once; 0 (the default): full depth at once.
+    pub depth_ramp_time: f64,
     /// Force law and coefficients.
     pub coefficients: Coefficients,
     /// Chip from the innermost of the last Z passes (a tooth that left the cut leaves the
@@ -135,6 +139,7 @@ impl Default for ProcessParams {
             entry_angle: 0.0,
             exit_angle: PI / 2.0,
             axial_depth: 1e-3,
+            depth_ramp_time: 0.0,
             coefficients: Coefficients {
                 law: ForceLaw::Linear,
                 kt: 760e6,
@@ -183,6 +188,9 @@ impl ProcessParams {
         }
         if !(self.axial_depth.is_finite() && self.axial_depth >= 0.0) {
             return Err("axial_depth must be finite and >= 0".into());
+        }
+        if !(self.depth_ramp_time.is_finite() && self.depth_ramp_time >= 0.0) {
+            return Err(format!("depth_ramp_time must be finite and >= 0 (got {})", self.depth_ramp_time));
         }
         let c = &self.coefficients;
         let all = [c.kt, c.kr, c.kte, c.kre, c.exponent].into_iter().chain(c.xi).chain(c.delta);

@@ -14,6 +14,13 @@
 //! of passes), else `K = 1`. A tooth with `h_j ≤ 0` has left the cut (no force). Before the
 //! history starts the surface is taken as flat (`r = 0`).
 //!
+//! With `depth_ramp_time = T_r > 0` the depth in the cut rises linearly over the first `T_r`
+//! after the start: the force is multiplied by `min(1, (t − t_0)/T_r)`. A full engagement at
+//! once is a force step of the mean cutting force, which rings the structure with about its
+//! static deflection; a ramp of a few periods of the lowest mode excites it by about
+//! `1/(π f T_r)` of that (a ramp's spectrum), so the regenerative growth or decay that follows
+//! starts from the small vibration the linear stability analysis describes.
+//!
 //! # Timing
 //!
 //! A step `[t, t + h]` advances the angle with the speed held, takes the displacement inputs as
@@ -86,6 +93,8 @@ pub struct Process {
     offsets: Vec<f64>,
     gaps: Vec<f64>,
     engagement: (f64, f64),
+    /// Start time (the depth ramp's origin).
+    t0: f64,
     t: f64,
     theta: f64,
     history: History<XySample>,
@@ -121,6 +130,7 @@ impl Process {
             offsets: p.tooth_offsets(),
             gaps: p.gaps(),
             engagement: p.engagement(),
+            t0,
             t: t0,
             theta: 0.0,
             history: History::default(),
@@ -236,8 +246,20 @@ impl Process {
             out.force[0] += f[0];
             out.force[1] += f[1];
         }
+        let ramp = self.depth_fraction();
+        if ramp < 1.0 {
+            out.force = [ramp * out.force[0], ramp * out.force[1]];
+        }
         out.workpiece_force = [-out.force[0], -out.force[1]];
         out
+    }
+
+    /// Fraction of `axial_depth` in the cut now: `(t − t0)/depth_ramp_time` during the entry
+    /// ramp, else 1. The force is scaled by it (exactly the depth's effect for the linear and
+    /// power laws, which are proportional to `a_p`; the cubic law's force is scaled the same way).
+    pub fn depth_fraction(&self) -> f64 {
+        let r = self.p.depth_ramp_time;
+        if r > 0.0 { ((self.t - self.t0) / r).clamp(0.0, 1.0) } else { 1.0 }
     }
 
     /// Is this a state the process can continue from? (Run on every restored FMU state.)
@@ -252,7 +274,12 @@ impl Process {
         {
             return Err("derived process quantities do not match the parameters".into());
         }
-        if !(self.t.is_finite() && self.theta.is_finite() && self.theta >= 0.0) {
+        if !(self.t.is_finite()
+            && self.t0.is_finite()
+            && self.t >= self.t0
+            && self.theta.is_finite()
+            && self.theta >= 0.0)
+        {
             return Err("the time or the tool angle is not finite".into());
         }
         let o = &self.out;
@@ -294,6 +321,35 @@ mod tests {
             pr.step(H, &inputs(k)).unwrap();
             each(k, &pr);
         }
+    }
+
+    /// With an entry ramp the force of a rigid cut is the unramped force times `t/T_r` (the
+    /// same chips: the ramp does not change the surface), and exactly the unramped one after.
+    #[test]
+    fn the_entry_ramp_scales_the_force_linearly_then_not_at_all() {
+        let full = ProcessParams::default();
+        let ramped = ProcessParams { depth_ramp_time: 2e-3, ..ProcessParams::default() };
+        assert!(ProcessParams { depth_ramp_time: -1.0, ..ProcessParams::default() }.validate().is_err());
+        let (mut a, mut b) = (Process::new(&full).unwrap(), Process::new(&ramped).unwrap());
+        assert!(b.outputs().force.iter().all(|f| *f == 0.0));
+        let mut checked = 0;
+        for k in 1..=400 {
+            a.step(H, &ProcessInputs::default()).unwrap();
+            b.step(H, &ProcessInputs::default()).unwrap();
+            let frac = (k as f64 * H / 2e-3).min(1.0);
+            assert!((b.depth_fraction() - frac).abs() < 1e-12);
+            for i in 0..2 {
+                let (fa, fb) = (a.outputs().force[i], b.outputs().force[i]);
+                assert!((fb - frac * fa).abs() <= 1e-12 * fa.abs().max(1.0), "k = {k}: {fb} vs {frac} * {fa}");
+                if k > 200 {
+                    assert_eq!(fb.to_bits(), fa.to_bits());
+                }
+            }
+            let (f, w) = (b.outputs().force, b.outputs().workpiece_force);
+            assert!(w[0].to_bits() == (-f[0]).to_bits() && w[1].to_bits() == (-f[1]).to_bits());
+            checked += usize::from(a.outputs().force[0] != 0.0 && k < 200);
+        }
+        assert!(checked > 50, "the ramp was checked while cutting ({checked} steps)");
     }
 
     #[test]

@@ -8,7 +8,10 @@
 //! loop), and measures the regenerative difference `d(t) = v_t(t) − v_t(t − τ)` (both axes,
 //! Euclidean norm) of the recorded tool displacement: peak over the last fifth / peak over the
 //! second fifth, as [`crate::sd_validation`] does for the seed 000 plant. The forced τ-periodic
-//! motion cancels in `d`; below 1 the cut is stable.
+//! motion cancels in `d`; below 1 the cut is stable. With [`SpindleCheck::ramp`] the process
+//! enters the cut over that time (its `depth_ramp_time`), so the growth starts from a small
+//! vibration instead of the ringing of a full engagement at once (which is about the static
+//! deflection and makes teeth leave the cut, README).
 //!
 //! **Closed-loop tool FRF** ([`tool_frf`]): `G_tt,c(iω) = C_t (iωI − A − B_a K(iω) C_a)⁻¹ B_t`
 //! with `K(iω)` the controller's response including the Pyragas factor `1 − β e^{−iωτ}`, taken
@@ -45,18 +48,73 @@ pub fn static_gain(gains: Option<(f64, f64)>) -> LinearControlParams {
     p
 }
 
+/// A controller design delivered as an SSP parameter set (`chatter synth` writes `<case>.ssv`
+/// with the `LinearController` names): read through the FMU's own variable table (names, types,
+/// bounds), starting from its defaults, so a design runs here exactly as bound in an SSP.
+pub fn design_params(path: &Path) -> Result<LinearControlParams, StudyError> {
+    let xml = std::fs::read_to_string(path).map_err(|e| StudyError::io(path, e))?;
+    let file = path.display().to_string();
+    let params = ssp::parse_ssv(&xml, &file, "").map_err(|e| StudyError::Invalid(format!("{file}: {e}")))?;
+    let mut r = crate::fmu_params::Resolved::default();
+    for p in &params {
+        crate::fmu_params::apply_ssp::<fmu_linear_controller::LinearController>(&mut r, &p.name, &p.value)
+            .map_err(|e| StudyError::Invalid(format!("{file}: {e}")))?;
+    }
+    Ok(r.params)
+}
+
+/// The design `c` as the stability model's controller (`A_c`, `B_c`, `C_c`, `D_c`, β: the
+/// first `n_c` rows and columns).
+pub fn sd_controller(c: &LinearControlParams) -> delay_stability::milling::Controller {
+    use nalgebra::DMatrix;
+    let n = c.n_c as usize;
+    delay_stability::milling::Controller {
+        ac: DMatrix::from_fn(n, n, |i, j| c.ac[i][j]),
+        bc: DMatrix::from_fn(n, 2, |i, j| c.bc[i][j]),
+        cc: DMatrix::from_fn(2, n, |i, j| c.cc[i][j]),
+        dc: DMatrix::from_fn(2, 2, |i, j| c.dc[i][j]),
+        beta: c.beta,
+    }
+}
+
+/// The semi-discretisation boundary \[m\] of seed 002's spindle with controller `c` (`None`:
+/// open loop) at `rpm`, force exponent `x_f` (the seed's cutter), `m` intervals per period.
+pub fn sd_boundary(c: Option<&LinearControlParams>, x_f: f64, rpm: f64, m: usize) -> Result<f64, StudyError> {
+    let inv = |e: delay_stability::StabilityError| StudyError::Invalid(e.to_string());
+    let cutter = delay_stability::presets::seed002_cutter(x_f).map_err(inv)?;
+    let ctrl = c.map(sd_controller);
+    let model = delay_stability::milling::MillingModel::new(
+        &delay_stability::presets::seed002_structure(),
+        cutter,
+        ctrl.as_ref(),
+    )
+    .map_err(inv)?;
+    let o = delay_stability::BisectionOptions { m, start: 0.3e-3, growth: 1.1, max: 0.02, rel_tol: 1e-5 };
+    delay_stability::critical_value(|d| model.at(rpm, d), &o)
+        .map_err(inv)?
+        .value
+        .ok_or_else(|| StudyError::Invalid(format!("no stability boundary below 20 mm at {rpm} rpm")))
+}
+
 /// The shipped spindle system set up for growth/decay runs.
 pub struct SpindleCheck<'a> {
     sys: &'a SystemFile,
     /// Communication step \[s\] (default 1 µs).
     pub step: f64,
+    /// The process's entry ramp `depth_ramp_time` \[s\] (default 0: full depth at once). With
+    /// a ramp the growth ratio compares windows after it: it must end within the first fifth of
+    /// the run ([`SpindleCheck::growth_ratio`] refuses a longer one).
+    pub ramp: f64,
+    /// The process's force exponent x_F (1: §6.1, 0.744: §6.2 and Table II), with the seed's
+    /// coefficients for it (`delay_stability::presets::seed002_cutter`). Default 1.
+    pub x_f: f64,
 }
 
 impl<'a> SpindleCheck<'a> {
     /// The check on `sys` (the shipped `Spindle.ssp`/`.ssd`: components `process`, `spindle`,
     /// `controller`).
     pub fn new(sys: &'a SystemFile) -> Self {
-        SpindleCheck { sys, step: 1e-6 }
+        SpindleCheck { sys, step: 1e-6, ramp: 0.0, x_f: 1.0 }
     }
 
     /// The typed overrides of one run: depth and speed of the process, the speed and the
@@ -66,7 +124,17 @@ impl<'a> SpindleCheck<'a> {
             Override::typed("process.axial_depth", Value::Real(depth)),
             Override::typed("process.spindle_speed", Value::Real(rpm)),
             Override::typed("controller.spindle_speed", Value::Real(rpm)),
+            Override::typed("process.depth_ramp_time", Value::Real(self.ramp)),
         ];
+        if (self.x_f - 1.0).abs() > 1e-12 {
+            // the seed's coefficients for x_F (N/m^(1+x_F)), the law the SD model linearises
+            let scale = 1000f64.powf(1.0 + self.x_f);
+            o.extend([
+                Override::typed("process.exponent", Value::Real(self.x_f)),
+                Override::typed("process.kt", Value::Real(462.0 * scale)),
+                Override::typed("process.kr", Value::Real(38.6 * scale)),
+            ]);
+        }
         o.extend(crate::fmu_params::overrides_of("controller", fmu_linear_controller::parameter_assignments(c)));
         o
     }
@@ -82,6 +150,13 @@ impl<'a> SpindleCheck<'a> {
         if !(rpm > 0.0 && depth >= 0.0 && duration > 0.0 && self.step > 0.0) {
             return Err(StudyError::Invalid(format!(
                 "need rpm > 0, depth >= 0, duration > 0 (got {rpm}, {depth}, {duration})"
+            )));
+        }
+        if !(self.ramp >= 0.0 && self.ramp <= 0.2 * duration) {
+            return Err(StudyError::Invalid(format!(
+                "the entry ramp ({} s) must end within the first fifth of the run ({duration} s): the growth is \
+                 measured from the second fifth",
+                self.ramp
             )));
         }
         let cfg = RunConfig {

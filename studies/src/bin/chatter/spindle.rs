@@ -2,19 +2,22 @@
 //! and the time-domain growth/decay of `Spindle.ssp` around the semi-discretisation boundary.
 //!
 //! ```text
-//! chatter spindle frf [--gains 697.1599,-1071.058] [--rpm 37000] [--out spindle-out]
-//! chatter spindle validate [--rpm 38000] [--closed] [--duration 0.25] [--quick]
+//! chatter spindle frf [--gains 697.1599,-1071.058 | --design synth-out/table2_nc2.ssv] [--rpm 37000] [--out spindle-out]
+//! chatter spindle validate [--rpm 38000] [--closed | --design D.ssv [--x-f 0.744]] [--duration 0.25] [--ramp 0.01] [--quick]
 //! ```
+//!
+//! A design (`--design`) is an SSP parameter set with the `LinearController` names, as `chatter
+//! synth` writes them (`<case>.ssv`) and `target/fmu/designs/` ships them.
 
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand};
 use delay_stability::presets::SEED002_GAINS;
-use delay_stability::{BisectionOptions, critical_value};
 use std::path::PathBuf;
 use std::time::Instant;
 use studies::figures::plot_xy;
-use studies::sd_lobes::Preset;
-use studies::seed002::{SpindleCheck, closed_peak, frf_csv, spindle_system, static_gain, tool_frf};
+use studies::seed002::{
+    SpindleCheck, closed_peak, design_params, frf_csv, sd_boundary, spindle_system, static_gain, tool_frf,
+};
 
 #[derive(Subcommand)]
 pub enum SpindleCmd {
@@ -27,8 +30,11 @@ pub enum SpindleCmd {
 #[derive(Args)]
 pub struct FrfArgs {
     /// Gains k1,k2 [N/mm] of D_c = [[k1, -k2], [k2, k1]] (default: the printed §6.1 gains).
-    #[arg(long, value_delimiter = ',', num_args = 2)]
+    #[arg(long, value_delimiter = ',', num_args = 2, conflicts_with = "design")]
     pub gains: Option<Vec<f64>>,
+    /// A controller design: an SSP parameter set (.ssv) with the LinearController names.
+    #[arg(long)]
+    pub design: Option<PathBuf>,
     /// Spindle speed [rpm] (sets τ of the Pyragas difference).
     #[arg(long, default_value_t = 37_000.0)]
     pub rpm: f64,
@@ -43,14 +49,25 @@ pub struct ValidateArgs {
     #[arg(long, default_value_t = 38_000.0)]
     pub rpm: f64,
     /// With the printed §6.1 gains (else open loop).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "design")]
     pub closed: bool,
+    /// With a controller design: an SSP parameter set (.ssv) with the LinearController names.
+    #[arg(long)]
+    pub design: Option<PathBuf>,
+    /// Force exponent x_F of the process and the boundary (1: §6.1; 0.744: §6.2, Table II),
+    /// with the seed's coefficients for it.
+    #[arg(long, default_value_t = 1.0)]
+    pub x_f: f64,
     /// Simulated time per run [s].
     #[arg(long, default_value_t = 0.25)]
     pub duration: f64,
     /// Communication step [s].
     #[arg(long, default_value_t = 1e-6)]
     pub step: f64,
+    /// Entry ramp of the process [s] (`process.depth_ramp_time`; 0: full depth at once). At most
+    /// a fifth of the duration.
+    #[arg(long, default_value_t = 0.0)]
+    pub ramp: f64,
     /// Semi-discretisation intervals per period for the boundary.
     #[arg(long, default_value_t = 40)]
     pub m: usize,
@@ -67,12 +84,15 @@ pub fn spindle(c: &SpindleCmd) -> Result<()> {
 }
 
 fn frf(a: &FrfArgs) -> Result<()> {
-    let gains = match &a.gains {
-        Some(g) => (g[0], g[1]),
-        None => SEED002_GAINS,
+    let (c, title) = match (&a.design, &a.gains) {
+        (Some(path), _) => (design_params(path)?, format!("design {}", path.display())),
+        (None, g) => {
+            let g = g.as_ref().map_or(SEED002_GAINS, |g| (g[0], g[1]));
+            (static_gain(Some(g)), format!("k1 = {}, k2 = {} N/mm", g.0, g.1))
+        }
     };
     let hz: Vec<f64> = (0..=3000).map(|k| 200.0 + k as f64).collect();
-    let rows = tool_frf(&static_gain(Some(gains)), a.rpm, &hz)?;
+    let rows = tool_frf(&c, a.rpm, &hz)?;
     std::fs::create_dir_all(&a.out).with_context(|| a.out.display().to_string())?;
     let csv = a.out.join("tool_frf.csv");
     std::fs::write(&csv, frf_csv(&rows)).with_context(|| csv.display().to_string())?;
@@ -82,7 +102,7 @@ fn frf(a: &FrfArgs) -> Result<()> {
     let png = a.out.join("tool_frf.png");
     plot_xy(
         &png,
-        &format!("tool FRF, k1 = {}, k2 = {} N/mm, {} rpm", gains.0, gains.1, a.rpm),
+        &format!("tool FRF, {title}, {} rpm", a.rpm),
         "frequency [Hz]",
         "|G| [um/N]",
         &[
@@ -110,19 +130,22 @@ fn validate(a: &ValidateArgs) -> Result<()> {
     let sys = spindle_system(&dir)?;
     let mut check = SpindleCheck::new(&sys);
     check.step = a.step;
-    let (preset, gains) =
-        if a.closed { (Preset::Seed002Closed61, Some(SEED002_GAINS)) } else { (Preset::Seed002Open61, None) };
-    let model = preset.model()?;
-    let o = BisectionOptions { m, start: 0.3e-3, growth: 1.1, max: 0.02, rel_tol: 1e-5 };
-    let sd = critical_value(|d| model.at(a.rpm, d), &o)?.value.context("stable up to 20 mm")?;
-    let c = static_gain(gains);
+    check.ramp = a.ramp;
+    check.x_f = a.x_f;
+    let (label, c) = match &a.design {
+        Some(path) => (format!("design {}", path.display()), Some(design_params(path)?)),
+        None if a.closed => ("printed gains".to_string(), Some(static_gain(Some(SEED002_GAINS)))),
+        None => ("open loop".to_string(), None),
+    };
+    let sd = sd_boundary(c.as_ref(), a.x_f, a.rpm, m)?;
+    let c = c.unwrap_or_else(|| static_gain(None));
     let t0 = Instant::now();
     let below = check.growth_ratio(a.rpm, 0.97 * sd, &c, duration)?;
     let above = check.growth_ratio(a.rpm, 1.03 * sd, &c, duration)?;
     println!(
-        "{} at {} rpm: SD boundary (m = {m}) {:.4} mm; growth ratio at 0.97: {below:.4}, at 1.03: {above:.4} ({:.1} s)",
-        if a.closed { "printed gains" } else { "open loop" },
+        "{label} at {} rpm, x_F = {}: SD boundary (m = {m}) {:.4} mm; growth ratio at 0.97: {below:.4}, at 1.03: {above:.4} ({:.1} s)",
         a.rpm,
+        a.x_f,
         sd * 1e3,
         t0.elapsed().as_secs_f64()
     );
