@@ -58,6 +58,16 @@ pub const SPINDLE_SSD: &str = include_str!("../scenarios/Spindle.ssd");
 
 /// The FMUs of [`SPINDLE_SSD`].
 pub const SPINDLE_FMUS: [&str; 3] = ["MillingProcess.fmu", "SpindleStructure.fmu", "LinearController.fmu"];
+/// Seed 002's synthesised controller designs (`chatter synth --case all`: §6.1 and Table II
+/// n_c = 0, 2, 4), SSP parameter sets with the `LinearController` names, written to
+/// `<fmu dir>/designs/` to bind to `controller` in `Spindle.ssp` (or `chatter spindle
+/// validate --design`).
+pub const SPINDLE_DESIGNS: [(&str, &str); 4] = [
+    ("sec6_1.ssv", include_str!("../designs/sec6_1.ssv")),
+    ("table2_nc0.ssv", include_str!("../designs/table2_nc0.ssv")),
+    ("table2_nc2.ssv", include_str!("../designs/table2_nc2.ssv")),
+    ("table2_nc4.ssv", include_str!("../designs/table2_nc4.ssv")),
+];
 /// Seed 003's closed loop (ToolXyPlant + SlidingModeFuzzyController),
 /// `packaging/scenarios/SlidingModeFuzzy.ssd`: the `SystemStructure.ssd` of `SlidingModeFuzzy.ssp`.
 pub const SLIDING_MODE_FUZZY_SSD: &str = include_str!("../scenarios/SlidingModeFuzzy.ssd");
@@ -353,6 +363,13 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     let ssp = dir.join("Spindle.ssp");
     ssp::write_ssp_archive(&ssp, SPINDLE_SSD, &in_ssd(SPINDLE_SSD))?;
     written.push(ssp);
+    let designs = dir.join("designs");
+    std::fs::create_dir_all(&designs).with_context(|| designs.display().to_string())?;
+    for (name, text) in SPINDLE_DESIGNS {
+        let path = designs.join(name);
+        std::fs::write(&path, text).with_context(|| path.display().to_string())?;
+        written.push(path);
+    }
     Ok(written)
 }
 

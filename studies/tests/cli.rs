@@ -398,3 +398,34 @@ fn the_map_as_cases_in_shards_collects_the_local_maps_tables() {
     let args = ["--quick", "--controllers", "off", "--depths", "0.5,2.5", "--rpm", "1000,1200,200", "--quiet"];
     assert_eq!(cases_match_local("map", &args, 2, "map.csv", "map.md"), 4);
 }
+
+/// `chatter spindle validate` with a shipped design (the CLI path of `tests/seed002.rs`), and its
+/// refusals: a ramp longer than a fifth of the run, a design file that does not exist, a design
+/// naming a parameter LinearController does not have.
+#[test]
+fn spindle_validate_runs_a_shipped_design_and_refuses_bad_input() {
+    let designs = packaging::fmu_dir().join("designs");
+    let nc2 = designs.join("table2_nc2.ssv");
+    let nc2 = nc2.to_str().unwrap();
+    let (ok, stdout, stderr) =
+        chatter(&["spindle", "validate", "--design", nc2, "--x-f", "0.744", "--rpm", "36000", "--duration", "0.1"]);
+    assert!(ok, "{stderr}");
+    let ratios: Vec<f64> =
+        stdout.split(|c: char| c == ':' || c == ',').filter_map(|s| s.trim().split(' ').next()?.parse().ok()).collect();
+    assert!(stdout.contains("growth ratio at 0.97"), "{stdout}");
+    let (below, above) = (ratios[ratios.len() - 2], ratios[ratios.len() - 1]);
+    assert!(below < 1.0 && above > 1.0, "{stdout}: {ratios:?}");
+    let bad = std::env::temp_dir().join(format!("chatter-cli-bad-{}.ssv", std::process::id()));
+    std::fs::write(&bad, std::fs::read_to_string(&nc2).unwrap().replace("Ac[1,2]", "Ax[1,2]")).unwrap();
+    for (args, want) in [
+        (vec!["--ramp", "0.05", "--duration", "0.1"], "first fifth"),
+        (vec!["--design", "/nonexistent/design.ssv"], "design.ssv"),
+        (vec!["--design", bad.to_str().unwrap()], "Ax[1,2]"),
+    ] {
+        let mut a = vec!["spindle", "validate", "--quick"];
+        a.extend(args);
+        let (ok, _, stderr) = chatter(&a);
+        assert!(!ok && stderr.contains(want), "{a:?}: {stderr}");
+    }
+    let _ = std::fs::remove_file(bad);
+}

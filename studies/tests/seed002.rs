@@ -6,7 +6,7 @@
 use delay_stability::presets::SEED002_GAINS;
 use delay_stability::{BisectionOptions, critical_value};
 use studies::sd_lobes::Preset;
-use studies::seed002::{SpindleCheck, closed_peak, spindle_system, static_gain, tool_frf};
+use studies::seed002::{SpindleCheck, closed_peak, design_params, sd_boundary, spindle_system, static_gain, tool_frf};
 
 #[test]
 fn fmus_decay_below_and_grow_above_the_sd_boundary_open_and_closed_loop() {
@@ -38,6 +38,44 @@ fn fmus_decay_below_and_grow_above_the_sd_boundary_open_and_closed_loop() {
             failures.push(format!("{preset:?} {rpm} rpm, a = {a}: below {below}, above {above}"));
         }
     }
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
+/// The shipped synthesised designs (`target/fmu/designs/*.ssv`, bound through LinearController's
+/// own table) on the FMUs: the static §6.1 design (x_F = 1) and the dynamic Table II n_c = 2
+/// design (x_F = 0.744, power-law process) decay at 0.97 and grow at 1.03 of their own
+/// semi-discretisation boundary.
+#[test]
+fn shipped_designs_decay_below_and_grow_above_their_sd_boundary_on_the_fmus() {
+    let dir = packaging::fmu_dir();
+    let sys = spindle_system(&dir).unwrap();
+    let mut check = SpindleCheck::new(&sys);
+    check.ramp = 0.01;
+    let mut failures = Vec::new();
+    for (file, x_f, rpm) in [("sec6_1.ssv", 1.0, 37_800.0), ("table2_nc2.ssv", 0.744, 36_000.0)] {
+        let c = design_params(&dir.join("designs").join(file)).unwrap();
+        check.x_f = x_f;
+        let a = sd_boundary(Some(&c), x_f, rpm, 40).unwrap();
+        let below = check.growth_ratio(rpm, 0.97 * a, &c, 0.1).unwrap();
+        let above = check.growth_ratio(rpm, 1.03 * a, &c, 0.1).unwrap();
+        eprintln!(
+            "{file} (n_c = {}) {rpm} rpm, SD a = {:.4} mm: ratio 0.97a {below:.4}, 1.03a {above:.4}",
+            c.n_c,
+            a * 1e3
+        );
+        if !(below < 1.0 && above > 1.0) {
+            failures.push(format!("{file}: a = {a}: below {below}, above {above}"));
+        }
+    }
+    // the designs are what the README reports (§6.1: k1 = 1000.61, k2 = −973.80 N/mm; n_c = 2)
+    let sec61 = design_params(&dir.join("designs/sec6_1.ssv")).unwrap();
+    assert_eq!(sec61.n_c, 0);
+    assert!(
+        (sec61.dc[0][0] / 1e3 - 1000.61).abs() < 0.01 && (sec61.dc[1][0] / 1e3 + 973.80).abs() < 0.01,
+        "{:?}",
+        sec61.dc
+    );
+    assert_eq!(design_params(&dir.join("designs/table2_nc2.ssv")).unwrap().n_c, 2);
     assert!(failures.is_empty(), "{failures:?}");
 }
 

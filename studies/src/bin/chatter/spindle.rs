@@ -64,9 +64,10 @@ pub struct ValidateArgs {
     /// Communication step [s].
     #[arg(long, default_value_t = 1e-6)]
     pub step: f64,
-    /// Entry ramp of the process [s] (`process.depth_ramp_time`; 0: full depth at once). At most
-    /// a fifth of the duration.
-    #[arg(long, default_value_t = 0.0)]
+    /// Entry ramp of the process [s] (`process.depth_ramp_time`; 0: full depth at once, which
+    /// rings the spindle with its static deflection and makes teeth leave the cut). At most a
+    /// fifth of the duration.
+    #[arg(long, default_value_t = 0.01)]
     pub ramp: f64,
     /// Semi-discretisation intervals per period for the boundary.
     #[arg(long, default_value_t = 40)]
