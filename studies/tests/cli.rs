@@ -411,12 +411,12 @@ fn spindle_validate_runs_a_shipped_design_and_refuses_bad_input() {
         chatter(&["spindle", "validate", "--design", nc2, "--x-f", "0.744", "--rpm", "36000", "--duration", "0.1"]);
     assert!(ok, "{stderr}");
     let ratios: Vec<f64> =
-        stdout.split(|c: char| c == ':' || c == ',').filter_map(|s| s.trim().split(' ').next()?.parse().ok()).collect();
+        stdout.split([':', ',']).filter_map(|s| s.trim().split(' ').next()?.parse().ok()).collect();
     assert!(stdout.contains("growth ratio at 0.97"), "{stdout}");
     let (below, above) = (ratios[ratios.len() - 2], ratios[ratios.len() - 1]);
     assert!(below < 1.0 && above > 1.0, "{stdout}: {ratios:?}");
     let bad = std::env::temp_dir().join(format!("chatter-cli-bad-{}.ssv", std::process::id()));
-    std::fs::write(&bad, std::fs::read_to_string(&nc2).unwrap().replace("Ac[1,2]", "Ax[1,2]")).unwrap();
+    std::fs::write(&bad, std::fs::read_to_string(nc2).unwrap().replace("Ac[1,2]", "Ax[1,2]")).unwrap();
     for (args, want) in [
         (vec!["--ramp", "0.05", "--duration", "0.1"], "first fifth"),
         (vec!["--design", "/nonexistent/design.ssv"], "design.ssv"),
