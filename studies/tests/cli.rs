@@ -294,6 +294,17 @@ fn sd_lobes_quick_runs_both_machines() {
     let a: f64 = last[1].parse().unwrap();
     assert!((a / 1.5735 - 1.0).abs() < 0.01, "{a}");
     assert_eq!(last[2], "hopf");
+    assert!(d.join("sd_lobes.png").metadata().unwrap().len() > 1000);
+    // a shipped design (Table II n_c = 2): its lobes stay above its own ā_p = 1.650 mm, the
+    // SD box check of the synthesis (the quick m = 10 within a few %)
+    let nc2 = packaging::fmu_dir().join("designs/table2_nc2.ssv");
+    let stdout = run(&["sd-lobes", "--quick", "--design", nc2.to_str().unwrap(), "--out", d.to_str().unwrap()]);
+    assert!(stdout.contains("n_c = 2, x_F = 0.744") && stdout.contains("34000"), "{stdout}");
+    let csv = std::fs::read_to_string(d.join("sd_lobes.csv")).unwrap();
+    for line in csv.lines().skip(1) {
+        let a: f64 = line.split(',').nth(1).unwrap().parse().unwrap();
+        assert!(a > 1.6, "{line}");
+    }
     // the seed 000 plant by its FMU parameter names: low-immersion down-milling
     let stdout = run(&[
         "sd-lobes",
@@ -410,8 +421,7 @@ fn spindle_validate_runs_a_shipped_design_and_refuses_bad_input() {
     let (ok, stdout, stderr) =
         chatter(&["spindle", "validate", "--design", nc2, "--x-f", "0.744", "--rpm", "36000", "--duration", "0.1"]);
     assert!(ok, "{stderr}");
-    let ratios: Vec<f64> =
-        stdout.split([':', ',']).filter_map(|s| s.trim().split(' ').next()?.parse().ok()).collect();
+    let ratios: Vec<f64> = stdout.split([':', ',']).filter_map(|s| s.trim().split(' ').next()?.parse().ok()).collect();
     assert!(stdout.contains("growth ratio at 0.97"), "{stdout}");
     let (below, above) = (ratios[ratios.len() - 2], ratios[ratios.len() - 1]);
     assert!(below < 1.0 && above > 1.0, "{stdout}: {ratios:?}");

@@ -21,8 +21,16 @@ use studies::sd_lobes::{Preset, extremes, sd_lobes, seed000_model, write_csv};
 #[derive(Args)]
 pub struct SdLobesArgs {
     /// Seed 002 case (`seed002-6.1`, `seed002-6.1-closed`, `seed002-6.2`) instead of the seed 000 plant.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "design")]
     pub preset: Option<String>,
+    /// Seed 002's spindle with a controller design: an SSP parameter set (.ssv) with the
+    /// LinearController names (`chatter synth` writes them; `target/fmu/designs/`).
+    #[arg(long)]
+    pub design: Option<PathBuf>,
+    /// Force exponent x_F of seed 002's cutter with `--design` (1: §6.1, 36000–38000 rpm by
+    /// default; otherwise Table II's 34000–36000 rpm).
+    #[arg(long, default_value_t = 0.744)]
+    pub x_f: f64,
     /// Starting plant for the seed 000 family: `seed` or `ozsoy`.
     #[arg(long, default_value = "seed")]
     pub plant: String,
@@ -66,7 +74,7 @@ pub struct SdLobesArgs {
     /// Simulated time per time-domain run [s].
     #[arg(long, default_value_t = 1.5)]
     pub duration: f64,
-    /// Output directory (sd_lobes.csv).
+    /// Output directory (sd_lobes.csv, sd_lobes.png).
     #[arg(long, default_value = "sd-lobes-out")]
     pub out: PathBuf,
 }
@@ -114,15 +122,30 @@ fn validate(a: &SdLobesArgs, plant: &milling_plant::PlantParams, o: &BisectionOp
 }
 
 pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
-    let (model, range, label) = match &a.preset {
-        Some(name) => {
+    let (model, range, label) = match (&a.preset, &a.design) {
+        (_, Some(path)) => {
+            if !a.set.is_empty() || a.system.is_some() {
+                bail!("--design runs seed 002's spindle; --set and --system apply to the seed 000 plant");
+            }
+            let c = studies::seed002::sd_controller(&studies::seed002::design_params(path)?);
+            let cutter = delay_stability::presets::seed002_cutter(a.x_f).map_err(|e| anyhow::anyhow!("{e}"))?;
+            let model = delay_stability::milling::MillingModel::new(
+                &delay_stability::presets::seed002_structure(),
+                cutter,
+                Some(&c),
+            )
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
+            let range = if (a.x_f - 1.0).abs() < 1e-12 { (36_000.0, 38_000.0) } else { (34_000.0, 36_000.0) };
+            (model, range, format!("design {} (n_c = {}, x_F = {})", path.display(), c.ac.nrows(), a.x_f))
+        }
+        (Some(name), None) => {
             if !a.set.is_empty() || a.system.is_some() {
                 bail!("--preset {name} describes its own machine; --set and --system apply to the seed 000 plant");
             }
             let p = Preset::by_name(name)?;
             (p.model()?, p.speed_range(), name.clone())
         }
-        None => (seed000_model(&seed000_params(a)?)?, (1000.0, 3000.0), format!("{} plant", a.plant)),
+        (None, None) => (seed000_model(&seed000_params(a)?)?, (1000.0, 3000.0), format!("{} plant", a.plant)),
     };
     let rpm_min = a.rpm_min.unwrap_or(range.0);
     let rpm_max = a.rpm_max.unwrap_or(range.1);
@@ -167,7 +190,16 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
         }
         None => println!("stable up to {} mm at every speed", a.max_mm),
     }
-    println!("wrote {}", csv.display());
+    let png = a.out.join("sd_lobes.png");
+    let curve: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.critical.value.map(|v| (p.rpm, v * 1e3))).collect();
+    studies::figures::plot_xy(
+        &png,
+        &format!("stability lobes (semi-discretisation, m = {m}): {label}"),
+        "spindle speed [rpm]",
+        "limiting depth a_lim [mm]",
+        &[("a_lim".to_string(), curve)],
+    )?;
+    println!("wrote {} and {}", csv.display(), png.display());
     if !a.validate_rpm.is_empty() {
         ensure!(a.preset.is_none(), "--validate-rpm runs MillingPlant.fmu: the seed 000 family only");
         validate(a, &seed000_params(a)?, &BisectionOptions { rel_tol: 1e-5, ..o })?;
