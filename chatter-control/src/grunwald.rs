@@ -136,6 +136,33 @@ fn dot_fma_avx2(a: &[f64], b: &[f64]) -> f64 {
     ((v[0] + v[2]) + (v[1] + v[3])) + tail
 }
 
+/// `Σ_j c_j w^j` as eight interleaved Horner chains: `Σ_{r<8} w^r q_r(w^8)` with
+/// `q_r(y) = Σ_k c_{8k+r} y^k`. The chains are independent, so the processor overlaps them
+/// (plain Horner waits for each complex product: the frequency responses of the lobe
+/// diagrams were 2/3 of its time); same terms, rounding differs at the 1e-15 level (a test
+/// compares with [`GrunwaldLetnikov::response_reference`]).
+pub fn polyval_interleaved(c: &[f64], w: Complex64) -> Complex64 {
+    const K: usize = 8;
+    let one = Complex64::new(1.0, 0.0);
+    let mut pw = [one; K];
+    for r in 1..K {
+        pw[r] = pw[r - 1] * w;
+    }
+    let wk = pw[K - 1] * w;
+    let mut acc = [Complex64::new(0.0, 0.0); K];
+    let full = c.len() / K;
+    let tail = &c[full * K..];
+    for (r, a) in acc.iter_mut().enumerate().take(tail.len()) {
+        *a = Complex64::new(tail[r], 0.0);
+    }
+    for row in c[..full * K].chunks_exact(K).rev() {
+        for (a, &cr) in acc.iter_mut().zip(row) {
+            *a = *a * wk + cr;
+        }
+    }
+    acc.iter().zip(&pw).fold(Complex64::new(0.0, 0.0), |s, (a, p)| s + a * p)
+}
+
 /// Short-memory Grünwald–Letnikov operator of order `alpha` (an FIR filter of `L + 1` taps).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GrunwaldLetnikov {
@@ -198,6 +225,12 @@ impl GrunwaldLetnikov {
 
     /// Transfer function `Σ_j c_j z^(−j)` at `z` (the same taps [`step`](Self::step) uses).
     pub fn response(&self, z: Complex64) -> Complex64 {
+        polyval_interleaved(&self.coeffs, z.inv())
+    }
+
+    /// [`response`](Self::response) by plain Horner (one dependent chain of 1001 complex
+    /// multiply–adds): the slow reference of the tests.
+    pub fn response_reference(&self, z: Complex64) -> Complex64 {
         let zinv = z.inv();
         self.coeffs.iter().rev().fold(Complex64::new(0.0, 0.0), |acc, &c| acc * zinv + c)
     }
@@ -214,6 +247,25 @@ impl GrunwaldLetnikov {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    /// The interleaved polynomial evaluation against plain Horner, on and off the unit circle,
+    /// for every length up to 40 and the default 1001 taps.
+    #[test]
+    fn interleaved_response_equals_horner() {
+        for l in (0..40).chain([1000]) {
+            let op = GrunwaldLetnikov::new(0.37, 1e-5, l);
+            for k in 0..50 {
+                let th = 0.0629 * k as f64;
+                for r in [1.0, 0.97, 1.03] {
+                    let z = Complex64::from_polar(r, th);
+                    let (fast, slow) = (op.response(z), op.response_reference(z));
+                    // the size of the terms Σ |c_j| |z|^(−j): the rounding scale of both sums
+                    let scale: f64 = op.coeffs.iter().enumerate().map(|(j, c)| c.abs() * r.powi(-(j as i32))).sum();
+                    assert!((fast - slow).norm() <= 1e-13 * scale, "L = {l}, z = {z}: {fast} vs {slow}");
+                }
+            }
+        }
+    }
 
     /// Both dot products (and the dispatched one) against the plain left-to-right sum, for every
     /// length up to 70 (all remainders of the 8- and 32-wide loops) and the default 1001 taps.
