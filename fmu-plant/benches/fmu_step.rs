@@ -1,0 +1,90 @@
+//! The plant FMU's step as the C ABI runs it (after the handle checks): set every real input,
+//! `fmi2DoStep` of 10 µs, get every real output, on the safe [`Instance`]; against the plant
+//! core's own step with the same parameters, measured in the same run (interleaved, best of 5,
+//! thread CPU time). The difference is the export layer's cost per communication step.
+//!
+//! `cargo bench -p fmu-plant --bench fmu_step` (`cargo test --benches`: a short run).
+#![allow(missing_docs)]
+
+use fmi2_export::instance::{Instance, LogLevel, LogSink};
+use fmi2_export::{Environment, Fmi2Model};
+use fmu_plant::MillingPlant;
+use milling_plant::{Plant, PlantInputs, PlantParams};
+use model_description::{Causality, ScalarType, Value};
+use std::hint::black_box;
+
+struct Quiet;
+impl LogSink for Quiet {
+    fn emit(&mut self, _level: LogLevel, _category: &str, _message: &str) {}
+}
+
+/// CPU time of this thread [s]: on a shared machine the wall time counts other processes' turns.
+fn cpu_seconds() -> f64 {
+    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    // SAFETY: a valid, writable timespec; CLOCK_THREAD_CPUTIME_ID exists on Linux.
+    unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
+}
+
+/// The value references of the real variables with causality `c`.
+fn reals(c: Causality) -> Vec<u32> {
+    MillingPlant::description()
+        .variables()
+        .iter()
+        .filter(|v| v.causality == c && v.scalar_type().api_type() == ScalarType::Real)
+        .map(|v| v.value_reference)
+        .collect()
+}
+
+fn fmu_ns(steps: usize) -> f64 {
+    let (ins, outs) = (reals(Causality::Input), reals(Causality::Output));
+    let mut inst = Instance::<MillingPlant>::new(Environment::default(), false, Box::new(Quiet));
+    inst.setup_experiment(0.0, None).unwrap();
+    inst.enter_initialization().unwrap();
+    inst.exit_initialization().unwrap();
+    let mut out = Vec::new();
+    let mut vals: Vec<Value> = Vec::new();
+    let start = cpu_seconds();
+    for k in 0..steps {
+        vals.clear();
+        vals.extend(ins.iter().map(|_| Value::Real(0.0)));
+        inst.set("fmi2SetReal", ScalarType::Real, &ins, black_box(&vals)).unwrap();
+        inst.do_step(k as f64 * 1e-5, 1e-5).unwrap();
+        inst.get("fmi2GetReal", ScalarType::Real, &outs, &mut out).unwrap();
+        black_box(&out);
+    }
+    (cpu_seconds() - start) * 1e9 / steps as f64
+}
+
+fn core_ns(steps: usize) -> f64 {
+    let mut plant = Plant::new(&PlantParams::default()).unwrap();
+    let inputs = PlantInputs::default();
+    let start = cpu_seconds();
+    for _ in 0..steps {
+        plant.step(1e-5, black_box(&inputs)).unwrap();
+        black_box(plant.outputs());
+    }
+    (cpu_seconds() - start) * 1e9 / steps as f64
+}
+
+fn main() {
+    let quick = !std::env::args().any(|a| a == "--bench");
+    let (steps, rounds) = if quick { (2_000, 1) } else { (100_000, 5) };
+    let (mut fmu, mut core) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..rounds {
+        fmu = fmu.min(fmu_ns(steps));
+        core = core.min(core_ns(steps));
+    }
+    println!(
+        "plant step, 10 µs, defaults (1 mode, time-domain cutting, noise, drift), best of {rounds} × {steps}, thread CPU time"
+    );
+    println!("| what | ns per step |");
+    println!("|---|---|");
+    println!("| plant core `Plant::step` | {core:.1} |");
+    println!(
+        "| FMU step: set {} real inputs, fmi2DoStep, get {} real outputs | {fmu:.1} |",
+        reals(Causality::Input).len(),
+        reals(Causality::Output).len()
+    );
+    println!("| export layer (difference) | {:.1} ({:.2}× the core) |", fmu - core, fmu / core);
+}
