@@ -317,6 +317,12 @@ impl ModalStructure {
         self.t0 + self.cell as f64 * self.p.internal_step + self.offset
     }
 
+    /// Time since the last internal cell boundary \[s\]: 0 while the communication points lie
+    /// on the internal grid (steps that are multiples of `internal_step`), at any run length.
+    pub fn cell_offset(&self) -> f64 {
+        self.offset
+    }
+
     /// Outputs at the current time.
     pub fn outputs(&self) -> StructureOutputs {
         self.out
@@ -397,15 +403,18 @@ impl ModalStructure {
         self.check(h, inputs)?;
         let hi = self.p.internal_step;
         let tol = 1e-9 * hi;
-        let t_end = self.time() + h;
+        // what is left of the step, counted down by the sub-steps taken: `t_end - self.time()` would
+        // lose the cell grid once the time's rounding (≈ t·ε) exceeds `tol` (after ~50 s at 10 µs),
+        // and every later step would take a partial cell of a new length (a new discretisation)
+        let mut remaining = h;
         let mut dist = self.out.disturbance_force;
         loop {
-            let remaining = t_end - self.time();
             if remaining <= tol {
                 break;
             }
             let to_cell_end = hi - self.offset;
             let (dt, completes) = if remaining >= to_cell_end - tol { (to_cell_end, true) } else { (remaining, false) };
+            remaining -= dt;
             let t = self.time();
             dist = self.disturbance(t + 0.5 * dt);
             let f = self.modal_forces(inputs, dist);

@@ -245,6 +245,12 @@ impl Plant {
         self.t0 + self.cell as f64 * self.p.internal_step + self.offset
     }
 
+    /// Time since the last internal cell boundary \[s\]: 0 while the communication points lie
+    /// on the internal grid (steps that are multiples of `internal_step`), at any run length.
+    pub fn cell_offset(&self) -> f64 {
+        self.offset
+    }
+
     /// Outputs at the current time (forces evaluated with the inputs of the last step).
     pub fn outputs(&self) -> PlantOutputs {
         self.out
@@ -338,16 +344,19 @@ impl Plant {
         }
         let hi = self.p.internal_step;
         let tol = 1e-9 * hi;
-        let t_end = self.time() + h;
+        // what is left of the step, counted down by the sub-steps taken: `t_end - self.time()` would
+        // lose the cell grid once the time's rounding (≈ t·ε) exceeds `tol` (after ~50 s at 10 µs),
+        // and every later step would take a partial cell of a new length (a new discretisation)
+        let mut remaining = h;
         let omega = inputs.spindle_speed_rpm * 2.0 * PI / 60.0;
         let mut delay = self.out.delay;
         loop {
-            let remaining = t_end - self.time();
             if remaining <= tol {
                 break;
             }
             let to_cell_end = hi - self.offset;
             let (dt, completes) = if remaining >= to_cell_end - tol { (to_cell_end, true) } else { (remaining, false) };
+            remaining -= dt;
             match self.p.integrator {
                 Integrator::Reference => delay = self.rk4(dt, omega, inputs),
                 Integrator::Exact => {

@@ -103,3 +103,21 @@ fn bad_inputs_and_parameters_are_refused() {
     assert!(ModalStructure::new(&p).is_err());
     assert!(s.validate_state().is_ok());
 }
+
+/// A communication step of one internal cell stays on the cell grid late in a long run (the
+/// step counts its remainder down; `t_end − time()` lost the grid once t·ε exceeded the
+/// tolerance, after ~50 s at 10 µs), for the exact maps and the RK4 reference.
+#[test]
+fn steps_stay_on_the_internal_grid_late_in_a_long_run() {
+    let p = ModalParams::default();
+    for t0 in [0.0, 300.0, 1.0e4] {
+        let mut exact = ModalStructure::new_at(&p, t0).unwrap();
+        let mut rk4 = ModalStructure::new_at(&p, t0).unwrap();
+        for k in 0..2000 {
+            exact.step(p.internal_step, &StructureInputs::default()).unwrap();
+            rk4.step_rk4(p.internal_step, &StructureInputs::default(), 1).unwrap();
+            assert_eq!(exact.cell_offset(), 0.0, "exact, t0 = {t0}: off the grid at step {k}");
+            assert_eq!(rk4.cell_offset(), 0.0, "rk4, t0 = {t0}: off the grid at step {k}");
+        }
+    }
+}
