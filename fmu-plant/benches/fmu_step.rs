@@ -1,6 +1,6 @@
 //! The plant FMU's step as the C ABI runs it (after the handle checks): set every real input,
-//! `fmi2DoStep` of 10 µs, get every real output, on the safe [`Instance`]; against the plant
-//! core's own step with the same parameters, measured in the same run (interleaved, best of 5,
+//! `fmi2DoStep` of 10 µs, get every real output, on the safe [`Instance`], with 1 and 3 modes;
+//! against the plant core's own step with the same parameters, measured in the same run (interleaved, best of 5,
 //! thread CPU time). The difference is the export layer's cost per communication step.
 //!
 //! `cargo bench -p fmu-plant --bench fmu_step` (`cargo test --benches`: a short run).
@@ -36,11 +36,17 @@ fn reals(c: Causality) -> Vec<u32> {
         .collect()
 }
 
-fn fmu_ns(steps: usize) -> f64 {
+/// The value reference of `name`.
+fn vr(name: &str) -> u32 {
+    MillingPlant::description().variable(name).expect("a plant variable").value_reference
+}
+
+fn fmu_ns(steps: usize, modes: i32) -> f64 {
     let (ins, outs) = (reals(Causality::Input), reals(Causality::Output));
     let mut inst = Instance::<MillingPlant>::new(Environment::default(), false, Box::new(Quiet));
     inst.setup_experiment(0.0, None).unwrap();
     inst.enter_initialization().unwrap();
+    inst.set("fmi2SetInteger", ScalarType::Integer, &[vr("workpiece.modes")], &[Value::Integer(modes)]).unwrap();
     inst.exit_initialization().unwrap();
     let mut out = Vec::new();
     let mut vals: Vec<Value> = Vec::new();
@@ -56,8 +62,10 @@ fn fmu_ns(steps: usize) -> f64 {
     (cpu_seconds() - start) * 1e9 / steps as f64
 }
 
-fn core_ns(steps: usize) -> f64 {
-    let mut plant = Plant::new(&PlantParams::default()).unwrap();
+fn core_ns(steps: usize, modes: u32) -> f64 {
+    let mut params = PlantParams::default();
+    params.workpiece.modes = modes;
+    let mut plant = Plant::new(&params).unwrap();
     let inputs = PlantInputs::default();
     let start = cpu_seconds();
     for _ in 0..steps {
@@ -70,21 +78,21 @@ fn core_ns(steps: usize) -> f64 {
 fn main() {
     let quick = !std::env::args().any(|a| a == "--bench");
     let (steps, rounds) = if quick { (2_000, 1) } else { (100_000, 5) };
-    let (mut fmu, mut core) = (f64::INFINITY, f64::INFINITY);
-    for _ in 0..rounds {
-        fmu = fmu.min(fmu_ns(steps));
-        core = core.min(core_ns(steps));
-    }
     println!(
-        "plant step, 10 µs, defaults (1 mode, time-domain cutting, noise, drift), best of {rounds} × {steps}, thread CPU time"
+        "plant step, 10 µs, defaults (time-domain cutting, noise, drift), best of {rounds} × {steps}, thread CPU time"
     );
-    println!("| what | ns per step |");
-    println!("|---|---|");
-    println!("| plant core `Plant::step` | {core:.1} |");
     println!(
-        "| FMU step: set {} real inputs, fmi2DoStep, get {} real outputs | {fmu:.1} |",
+        "| modes | plant core `Plant::step` [ns] | FMU step: set {} real inputs, fmi2DoStep, get {} real outputs [ns] | export layer (difference) [ns] | FMU / core |",
         reals(Causality::Input).len(),
         reals(Causality::Output).len()
     );
-    println!("| export layer (difference) | {:.1} ({:.2}× the core) |", fmu - core, fmu / core);
+    println!("|---|---|---|---|---|");
+    for modes in [1, 3] {
+        let (mut fmu, mut core) = (f64::INFINITY, f64::INFINITY);
+        for _ in 0..rounds {
+            fmu = fmu.min(fmu_ns(steps, modes));
+            core = core.min(core_ns(steps, modes as u32));
+        }
+        println!("| {modes} | {core:.1} | {fmu:.1} | {:.1} | {:.2} |", fmu - core, fmu / core);
+    }
 }
