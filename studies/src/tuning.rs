@@ -395,4 +395,29 @@ mod tests {
         let r = check.run(&plant, &big).unwrap();
         assert!(r.exceeded, "{r:?}");
     }
+
+    /// Issue 11 item 4: the shipped defaults pass the ±27 N saturation check on at least 9 of
+    /// the 10 noise seeds 101..=110, which no tuning run used (tuning checks seeds 1..=N, or 7),
+    /// on the FMU's default 1-mode plant and on the 3-mode plant they were tuned on.
+    #[test]
+    fn shipped_defaults_pass_the_saturation_check_on_fresh_noise_seeds() {
+        let mut failures = Vec::new();
+        for modes in [1, 3] {
+            let mut plant = loop_frf::seed_plant();
+            plant.workpiece.modes = modes;
+            for s in [Structure::Pid, Structure::Fopid, Structure::AdrcFopid] {
+                let c = ControllerParams { structure: s, ..ControllerParams::default() };
+                let runs: Vec<SaturationReport> = (101..=110)
+                    .map(|seed| SaturationCheck { seed, ..Default::default() }.run(&plant, &c).unwrap())
+                    .collect();
+                let passed = runs.iter().filter(|r| !r.exceeded).count();
+                let peak = runs.iter().map(|r| r.peak_u).fold(0.0, f64::max);
+                eprintln!("{s:?}, {modes} mode(s): {passed}/10 fresh seeds pass, peak |u| {peak:.2} N");
+                if passed < 9 {
+                    failures.push(format!("{s:?} on {modes} mode(s): {passed}/10"));
+                }
+            }
+        }
+        assert!(failures.is_empty(), "shipped defaults saturate: {failures:?}");
+    }
 }

@@ -30,8 +30,8 @@ fn fmu_closed_loop_decays_3_percent_below_the_lobe_and_grows_3_percent_above() {
         (Some(with(t2, Structure::Fopid)), 1239.0),
         (Some(with(t2, Structure::AdrcFopid)), 2181.3),
         (Some(with(tuned, Structure::Pid)), 2913.9),
-        (Some(with(tuned, Structure::Fopid)), 1269.1),
-        (Some(with(tuned, Structure::AdrcFopid)), 1414.1),
+        (Some(with(tuned, Structure::Fopid)), 2935.8),
+        (Some(with(tuned, Structure::AdrcFopid)), 1367.5),
     ];
     let mut failures = Vec::new();
     for (ctrl, rpm) in cases {

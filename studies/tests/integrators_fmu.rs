@@ -14,7 +14,7 @@ fn the_lobe_boundary_through_the_fmus_does_not_move_with_the_integrator() {
     let sys = closed_loop_system(&packaging::fmu_dir()).unwrap();
     let plant = loop_frf::seed_plant();
     let fopid = ControllerParams { structure: Structure::Fopid, ..ControllerParams::default() };
-    for (ctrl, rpm) in [(None, 2866.7), (Some(fopid), 1269.1)] {
+    for (ctrl, rpm) in [(None, 2866.7), (Some(fopid), 2935.8)] {
         let b = loop_frf::problem(&plant, ctrl.as_ref(), 1000.0).unwrap().critical_depth(rpm).depth;
         let boundary = |integrator| {
             let fl = FmuLoop::new(&sys, &PlantParams { integrator, ..plant.clone() }).unwrap();

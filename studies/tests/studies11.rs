@@ -282,13 +282,21 @@ fn map_quick_noise_free_open_loop_grows_exactly_above_the_lobes() {
     std::fs::remove_dir_all(&d).unwrap();
 }
 
-/// The robust saturation constraint is the union over its noise seeds: the shipped FOPID passes
-/// the seed's single check (noise seed 7) but not every seed of 1..=10.
+/// The robust saturation constraint is the union over its noise seeds: the FOPID tuned with the
+/// seed's single check passes that check (noise seed 7) but not every seed of 1..=10.
 #[test]
 fn robust_saturation_constraint_fails_if_any_seed_fails() {
     use studies::tuning::TuningProblem;
-    let c = chatter_control::ControllerParams::tuned();
-    let c = chatter_control::ControllerParams { structure: Structure::Fopid, ..c };
+    // the FOPID gains the seed's single-seed check (noise seed 7) selected: on its saturation
+    // boundary (the shipped defaults before the robust re-tuning)
+    let fopid = chatter_control::FopidGains {
+        kp: 1.0e5,
+        ki: 1.0e4,
+        kd: 1.0e3,
+        lambda: 0.873_490_392_164_647_1,
+        mu: 1.278_802_491_355_317_5,
+    };
+    let c = chatter_control::ControllerParams { structure: Structure::Fopid, fopid, ..Default::default() };
     let mut p = TuningProblem::new(milling_plant::PlantParams::default(), Structure::Fopid);
     let single = p.saturation(&c).unwrap();
     assert!(!single.exceeded, "{single:?}");

@@ -29,14 +29,20 @@ pub struct CheckArgs {
     /// Duration of the saturation check [s].
     #[arg(long, default_value_t = 0.2)]
     pub duration: f64,
+    /// Workpiece modes of the plant (1, the FMU default, or 3: the plant of `tune --modes 3`).
+    #[arg(long, default_value_t = 1)]
+    pub modes: u32,
 }
 
 pub fn check(a: &CheckArgs) -> Result<()> {
     anyhow::ensure!(a.seeds > 0, "--seeds 0: give at least one seed");
     anyhow::ensure!((0.0..1.0).contains(&a.margin), "--margin {}: must be in [0, 1)", a.margin);
-    let plant = plant_by_name(&a.plant)?;
+    anyhow::ensure!([1, 3].contains(&a.modes), "--modes {}: 1 or 3", a.modes);
+    let mut plant = plant_by_name(&a.plant)?;
+    plant.workpiece.modes = a.modes;
     println!(
-        "| controller | decay (late/early peak) | saturation check passed (seeds {}..={}, margin {}) | peak u over seeds (N) | max saturated samples |",
+        "| controller | decay (late/early peak) | saturation check passed ({} mode(s), seeds {}..={}, margin {}) | peak u over seeds (N) | max saturated samples |",
+        a.modes,
         a.first_seed,
         a.first_seed + a.seeds - 1,
         a.margin
