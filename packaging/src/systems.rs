@@ -166,6 +166,13 @@ mod tests {
         connections_end_on_declared_connectors(&d);
     }
 
+    /// The parameters an FMU runs with when nothing is set (its start values, read through its
+    /// own table).
+    fn start_parameters<M: fmi2_export::table::TableModel>() -> M::Params {
+        let values = fmi2_export::Values::from_description(M::description());
+        M::table().read_parameters(&values).expect("the start values are valid parameters")
+    }
+
     /// Every connection starts at a declared output connector and ends at a declared input.
     fn connections_end_on_declared_connectors(d: &SystemDescription) {
         for c in &d.connections {
@@ -238,10 +245,7 @@ mod tests {
         assert_eq!(d.connections.len(), 6, "x, y, vx, vy to the controller; u_x, u_y to the plant");
         let plant = d.components.iter().find(|c| c.name == "plant").unwrap();
         assert_eq!(plant.parameters.len(), 2, "the calibrated forcing amplitudes");
-        let ts = fmu_sliding_fuzzy::TABLE.read_parameters(&fmi2_export::Values::from_description(
-            <fmu_sliding_fuzzy::SlidingModeFuzzyController as fmi2_export::Fmi2Model>::description(),
-        ));
-        let ts = ts.unwrap().sample_period;
+        let ts = start_parameters::<fmu_sliding_fuzzy::SlidingModeFuzzyController>().sample_period;
         assert!((ts / d.master.step_size.unwrap() - 1.0).abs() < 1e-12);
     }
 
@@ -253,10 +257,7 @@ mod tests {
         assert_eq!(d.to_xml().unwrap(), super::AFRAC_SSD, "Afrac.ssd is not canonical");
         assert_eq!(d.components.len(), 2);
         assert_eq!(d.connections.len(), 4, "x, v to the controller; spindle_speed, feed to the plant");
-        let ts = fmu_afrac::TABLE.read_parameters(&fmi2_export::Values::from_description(
-            <fmu_afrac::AfracController as fmi2_export::Fmi2Model>::description(),
-        ));
-        let ts = ts.unwrap().sample_period;
+        let ts = start_parameters::<fmu_afrac::AfracController>().sample_period;
         assert!((ts / d.master.step_size.unwrap() - 1.0).abs() < 1e-12);
     }
 
@@ -268,10 +269,7 @@ mod tests {
         assert_eq!(d.to_xml().unwrap(), super::FORCE_CONTROL_SSD, "ForceControl.ssd is not canonical");
         assert_eq!(d.components.len(), 2);
         assert_eq!(d.connections.len(), 3, "force feedback, command mean and command slope");
-        let ts = fmu_froh_mrac::TABLE.read_parameters(&fmi2_export::Values::from_description(
-            <fmu_froh_mrac::FrohMracController as fmi2_export::Fmi2Model>::description(),
-        ));
-        let ts = ts.unwrap().sample_period;
+        let ts = start_parameters::<fmu_froh_mrac::FrohMracController>().sample_period;
         let m = ts / d.master.step_size.unwrap();
         assert!((m - m.round()).abs() < 1e-9 && m.round() >= 1.0, "Ts/h = {m}");
     }
