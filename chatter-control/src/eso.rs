@@ -67,8 +67,9 @@ impl Eso {
 
     /// Observer of bandwidth `omega_o` \[rad/s\] for input gain `b0` \[1/kg\] at sample period `ts`.
     pub fn new(omega_o: f64, b0: f64, ts: f64) -> Self {
-        let q = (-omega_o * ts).exp();
-        let d = -(-omega_o * ts).exp_m1(); // 1 − q without cancellation
+        // `libm`, not the platform's: the same bits on every platform (see `grunwald`)
+        let q = libm::exp(-omega_o * ts);
+        let d = -libm::expm1(-omega_o * ts); // 1 − q without cancellation
         let k = [1.0 - q * q * q, 3.0 * d * d * (1.0 + q) / (2.0 * ts), d * d * d / (ts * ts)];
         Eso { ts, b0, omega_o, k, z: [0.0; 3], u_prev: 0.0 }
     }

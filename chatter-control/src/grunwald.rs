@@ -180,7 +180,9 @@ impl GrunwaldLetnikov {
     /// (plus the current one).
     pub fn new(alpha: f64, ts: f64, memory_length: usize) -> Self {
         let n = memory_length + 1;
-        let scale = ts.powf(-alpha);
+        // `libm::pow`, not `f64::powf` (the platform's libm): glibc and the Windows CRT may differ
+        // in the last bit, and the FMUs compute the same bits on linux64 and win64
+        let scale = libm::pow(ts, -alpha);
         let coeffs = gl_weights(alpha, n).into_iter().map(|w| w * scale).collect();
         GrunwaldLetnikov { alpha, ts, coeffs, buf: vec![0.0; 2 * n], head: 0 }
     }

@@ -53,10 +53,10 @@ pub fn design(r: f64, omega_lo: f64, omega_hi: f64, order: usize) -> (f64, Vec<f
     let mut poles = Vec::new();
     for k in 0..(2 * order + 1) {
         let kk = k as f64; // k + N in the formula
-        zeros.push(omega_lo * ratio.powf((kk + (1.0 - r) / 2.0) / m));
-        poles.push(omega_lo * ratio.powf((kk + (1.0 + r) / 2.0) / m));
+        zeros.push(omega_lo * libm::pow(ratio, (kk + (1.0 - r) / 2.0) / m));
+        poles.push(omega_lo * libm::pow(ratio, (kk + (1.0 + r) / 2.0) / m));
     }
-    (omega_hi.powf(r), zeros, poles)
+    (libm::pow(omega_hi, r), zeros, poles)
 }
 
 /// Discrete Oustaloup approximation of `s^r`.
