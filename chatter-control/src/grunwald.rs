@@ -51,7 +51,7 @@ pub fn gl_weights(alpha: f64, n: usize) -> Vec<f64> {
 /// [`dot_portable`] (eight accumulators of `x·y + acc`, which the baseline SSE2 vectorises).
 /// Both have a fixed summation order, so a run is reproducible on one machine; the two differ
 /// in rounding only (relative 1e-16 per sum; the tests compare both with the direct sum). The
-/// fused path is 2.4× faster on this machine (`cargo bench -p chatter-control --bench
+/// fused path is 1.7× faster on the project's machine (`cargo bench -p chatter-control --bench
 /// gl_window` prints the ratio).
 #[inline]
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
