@@ -10,6 +10,7 @@
 //! | [`noise`] | band-limited Gaussian force noise on a fixed grid (shared with `milling-plant`) |
 
 pub mod actuator;
+pub mod grid;
 pub mod modal;
 pub mod noise;
 

@@ -32,6 +32,7 @@
 //! and held over it; a step ending inside a cell is split there. [`ModalStructure::step_rk4`]
 //! is the slow reference (classical RK4 on the same grid, drift at the stage times).
 
+use crate::grid::next_sub_step;
 use crate::noise::BandLimitedNoise;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
@@ -402,19 +403,10 @@ impl ModalStructure {
     fn advance(&mut self, h: f64, inputs: &StructureInputs, rk4: u32) -> Result<(), StructureError> {
         self.check(h, inputs)?;
         let hi = self.p.internal_step;
-        let tol = 1e-9 * hi;
-        // what is left of the step, counted down by the sub-steps taken: `t_end - self.time()` would
-        // lose the cell grid once the time's rounding (≈ t·ε) exceeds `tol` (after ~50 s at 10 µs),
-        // and every later step would take a partial cell of a new length (a new discretisation)
+        // what is left of the step, counted down by `next_sub_step` (see `machine_structure::grid`)
         let mut remaining = h;
         let mut dist = self.out.disturbance_force;
-        loop {
-            if remaining <= tol {
-                break;
-            }
-            let to_cell_end = hi - self.offset;
-            let (dt, completes) = if remaining >= to_cell_end - tol { (to_cell_end, true) } else { (remaining, false) };
-            remaining -= dt;
+        while let Some((dt, completes)) = next_sub_step(&mut remaining, self.offset, hi) {
             let t = self.time();
             dist = self.disturbance(t + 0.5 * dt);
             let f = self.modal_forces(inputs, dist);

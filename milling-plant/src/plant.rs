@@ -38,6 +38,7 @@ use crate::noise::BandLimitedNoise;
 use crate::params::{CuttingModel, Integrator, Mode, PlantParams};
 use crate::teeth::ToothAngles;
 use exact_cell::{Fast, LastCut};
+use machine_structure::grid::next_sub_step;
 
 mod exact_cell;
 use serde::{Deserialize, Serialize};
@@ -343,20 +344,11 @@ impl Plant {
             return Err(PlantError::Input(format!("step size {h} must be finite and >= 0")));
         }
         let hi = self.p.internal_step;
-        let tol = 1e-9 * hi;
-        // what is left of the step, counted down by the sub-steps taken: `t_end - self.time()` would
-        // lose the cell grid once the time's rounding (≈ t·ε) exceeds `tol` (after ~50 s at 10 µs),
-        // and every later step would take a partial cell of a new length (a new discretisation)
+        // what is left of the step, counted down by `next_sub_step` (see `machine_structure::grid`)
         let mut remaining = h;
         let omega = inputs.spindle_speed_rpm * 2.0 * PI / 60.0;
         let mut delay = self.out.delay;
-        loop {
-            if remaining <= tol {
-                break;
-            }
-            let to_cell_end = hi - self.offset;
-            let (dt, completes) = if remaining >= to_cell_end - tol { (to_cell_end, true) } else { (remaining, false) };
-            remaining -= dt;
+        while let Some((dt, completes)) = next_sub_step(&mut remaining, self.offset, hi) {
             match self.p.integrator {
                 Integrator::Reference => delay = self.rk4(dt, omega, inputs),
                 Integrator::Exact => {
