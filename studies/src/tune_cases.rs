@@ -165,12 +165,9 @@ pub fn table_row<'a>(name: &str, prob: &TuningProblem, runs: &'a [TuningRun]) ->
         })
         .collect();
     // does the best controller also pass the check with other noise realizations?
-    let other_seeds = (101..111)
-        .filter(|&sd| {
-            let ch = tuning::SaturationCheck { seed: sd, margin: 0.0, ..prob.check };
-            ch.run(&prob.plant, &best.params).is_ok_and(|r| !r.exceeded)
-        })
-        .count();
+    let other_seeds = tuning::SaturationCheck { margin: 0.0, ..prob.check }
+        .over_seeds(&prob.plant, &best.params, 101..111)
+        .map_or(0, |s| s.passed);
     let row = format!(
         "| {name} | {} | {:.4} | {:.4} ± {:.4} | {:.3} | {:.1} | {} | {:.4} at {:.0} | {:.2} | {other_seeds}/10 |\n",
         best.gains.len(),

@@ -125,6 +125,39 @@ impl SaturationCheck {
     }
 }
 
+/// The saturation check repeated over several noise seeds (a fresh-seed count).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeedSweep {
+    /// Seeds checked.
+    pub seeds: usize,
+    /// Seeds whose check passed (no saturated sample).
+    pub passed: usize,
+    /// Largest applied |u| over the seeds \[N\].
+    pub peak_u: f64,
+    /// Most saturated samples of one seed.
+    pub worst_saturated: usize,
+}
+
+impl SaturationCheck {
+    /// This check (its `seed` replaced) for each of `seeds`.
+    pub fn over_seeds(
+        &self,
+        plant: &PlantParams,
+        ctrl: &ControllerParams,
+        seeds: impl IntoIterator<Item = u64>,
+    ) -> Result<SeedSweep, String> {
+        let mut s = SeedSweep { seeds: 0, passed: 0, peak_u: 0.0, worst_saturated: 0 };
+        for seed in seeds {
+            let r = SaturationCheck { seed, ..*self }.run(plant, ctrl)?;
+            s.seeds += 1;
+            s.passed += usize::from(!r.exceeded);
+            s.peak_u = s.peak_u.max(r.peak_u);
+            s.worst_saturated = s.worst_saturated.max(r.saturated_samples);
+        }
+        Ok(s)
+    }
+}
+
 /// One tunable parameter.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ParamSpec {
@@ -407,11 +440,8 @@ mod tests {
             plant.workpiece.modes = modes;
             for s in [Structure::Pid, Structure::Fopid, Structure::AdrcFopid] {
                 let c = ControllerParams { structure: s, ..ControllerParams::default() };
-                let runs: Vec<SaturationReport> = (101..=110)
-                    .map(|seed| SaturationCheck { seed, ..Default::default() }.run(&plant, &c).unwrap())
-                    .collect();
-                let passed = runs.iter().filter(|r| !r.exceeded).count();
-                let peak = runs.iter().map(|r| r.peak_u).fold(0.0, f64::max);
+                let sweep = SaturationCheck::default().over_seeds(&plant, &c, 101..=110).unwrap();
+                let (passed, peak) = (sweep.passed, sweep.peak_u);
                 eprintln!("{s:?}, {modes} mode(s): {passed}/10 fresh seeds pass, peak |u| {peak:.2} N");
                 if passed < 9 {
                     failures.push(format!("{s:?} on {modes} mode(s): {passed}/10"));
