@@ -17,7 +17,24 @@
 //!
 //! i.e. an FIR filter with `L + 1` precomputed taps `c_j = T^(−α) w_j`. The samples are
 //! kept in a ring buffer written twice (at `head` and `head + L + 1`), so that the newest
-//! `L + 1` samples are always one contiguous slice and the dot product vectorises.
+//! `L + 1` samples are always one contiguous slice.
+//!
+//! **Block-precomputed tail.** The taps `j ≥ B` of the outputs `y_k … y_{k+B−1}` of a block of
+//! `B` = [`BLOCK`] samples only read samples older than `x_k`, so they are summed for the whole
+//! block when it starts:
+//!
+//! ```text
+//! y_{k+i} = Σ_{j<B} c_j x_{k+i−j}  +  T_i,     T_i = Σ_{j=B..L} c_j x_{k+i−j}   (i = 0..B−1)
+//! ```
+//!
+//! The `B` tail sums are one Toeplitz matrix–vector product: for each tap one broadcast `c_j`
+//! multiplies `B` consecutive samples, so a multiply–add costs one load instead of two (the
+//! per-sample dot product of the whole window is bound by the L1 read bandwidth). Each `T_i` is
+//! summed in order of `j` with one fused multiply–add per term (the scalar definition,
+//! [`block_tail_fma`], is bitwise what the AVX2 code computes); the head is the window dot
+//! product of `B` taps. Same terms as the window sum, different rounding (1e-15 of the terms'
+//! magnitudes; tests compare both with the direct sum). The per-sample window sum stays as
+//! [`GrunwaldLetnikov::step_window`], the reference of the tests and the bench.
 //!
 //! For a sinusoid at ω the truncated tail relative to the full operator is about
 //! `(ω L T)^(−(1+α)) / |Γ(−α)|` (summation by parts of `w_j ~ j^(−α−1)/Γ(−α)`). It is small
@@ -54,7 +71,7 @@ pub fn gl_weights(alpha: f64, n: usize) -> Vec<f64> {
 /// fused path is 1.7× faster on the project's machine (`cargo bench -p chatter-control --bench
 /// gl_window` prints the ratio).
 #[inline]
-pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
         // SAFETY: the CPU has AVX2 and FMA (checked just above), the only requirement of
@@ -136,6 +153,72 @@ fn dot_fma_avx2(a: &[f64], b: &[f64]) -> f64 {
     ((v[0] + v[2]) + (v[1] + v[3])) + tail
 }
 
+/// Samples per block of the precomputed tail sums (see the module documentation).
+pub const BLOCK: usize = 32;
+
+/// The tail sums of one block, scalar definition: with `p` the window before the block's first
+/// sample (`p_m = x_{k−1−m}`, at least `c.len() − 1` samples), `acc_q = Σ_{j=B..n−1} c_j p_{j−B+q}`
+/// summed in order of `j` with one fused multiply–add per term, for `q = 0..B−1`; the tail of the
+/// block's sample `i` is `acc_{B−1−i}`. Without hardware FMA `mul_add` is a slow library call, so
+/// [`block_tail`] runs the AVX2 code (bitwise equal, a test) where the CPU has it and
+/// [`block_tail_portable`] elsewhere; this function is for the tests.
+pub fn block_tail_fma(c: &[f64], p: &[f64], acc: &mut [f64; BLOCK]) {
+    *acc = [0.0; BLOCK];
+    for (j, &cj) in c.iter().enumerate().skip(BLOCK) {
+        let w = &p[j - BLOCK..j];
+        for q in 0..BLOCK {
+            acc[q] = cj.mul_add(w[q], acc[q]);
+        }
+    }
+}
+
+/// [`block_tail_fma`] without fused multiply–add (`acc + c·p`, two roundings), the path of CPUs
+/// without AVX2 + FMA (the inner loop vectorises on any x86-64).
+pub fn block_tail_portable(c: &[f64], p: &[f64], acc: &mut [f64; BLOCK]) {
+    *acc = [0.0; BLOCK];
+    for (j, &cj) in c.iter().enumerate().skip(BLOCK) {
+        let w = &p[j - BLOCK..j];
+        for q in 0..BLOCK {
+            acc[q] += cj * w[q];
+        }
+    }
+}
+
+/// The block's tail sums ([`block_tail_fma`] on CPUs with AVX2 + FMA, else [`block_tail_portable`]).
+#[inline]
+pub fn block_tail(c: &[f64], p: &[f64], acc: &mut [f64; BLOCK]) {
+    assert!(p.len() + 1 >= c.len(), "the window holds the block's tail samples");
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU has AVX2 and FMA (checked just above), the only requirement of
+        // `block_tail_avx2`'s target features.
+        return unsafe { block_tail_avx2(c, p, acc) };
+    }
+    block_tail_portable(c, p, acc)
+}
+
+/// [`block_tail_fma`] with AVX2 + FMA: eight `ymm` accumulators (lanes `4r..4r+3`), one
+/// broadcast tap and eight fused multiply–adds with memory operands per tap; bitwise equal to it.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn block_tail_avx2(c: &[f64], p: &[f64], acc: &mut [f64; BLOCK]) {
+    use std::arch::x86_64::*;
+    let mut r = [_mm256_setzero_pd(); BLOCK / 4];
+    for (j, &cj) in c.iter().enumerate().skip(BLOCK) {
+        let cv = _mm256_set1_pd(cj);
+        let w = p[j - BLOCK..j].as_ptr();
+        for (k, rk) in r.iter_mut().enumerate() {
+            // SAFETY: `w` points at the B elements `p[j − B .. j]` (bounds-checked slice), and lanes
+            // 4k..4k+4 ≤ B of them are read; unaligned loads need no alignment.
+            *rk = _mm256_fmadd_pd(cv, unsafe { _mm256_loadu_pd(w.add(4 * k)) }, *rk);
+        }
+    }
+    for (k, rk) in r.iter().enumerate() {
+        // SAFETY: `acc[4k .. 4k + 4]` is in bounds (k < B/4).
+        unsafe { _mm256_storeu_pd(acc.as_mut_ptr().add(4 * k), *rk) };
+    }
+}
+
 /// `Σ_j c_j w^j` as eight interleaved Horner chains: `Σ_{r<8} w^r q_r(w^8)` with
 /// `q_r(y) = Σ_k c_{8k+r} y^k`. The chains are independent, so the processor overlaps them
 /// (plain Horner waits for each complex product: the frequency responses of the lobe
@@ -173,6 +256,10 @@ pub struct GrunwaldLetnikov {
     /// Ring buffer of length `2 (L + 1)`, each sample written twice.
     buf: Vec<f64>,
     head: usize,
+    /// The current block's tail sums (`acc` of [`block_tail_fma`]; unused when `L + 1 ≤ B`).
+    tail: Vec<f64>,
+    /// Index in the block of the next sample (the tail is summed when it is 0).
+    phase: usize,
 }
 
 impl GrunwaldLetnikov {
@@ -184,7 +271,7 @@ impl GrunwaldLetnikov {
         // in the last bit, and the FMUs compute the same bits on linux64 and win64
         let scale = libm::pow(ts, -alpha);
         let coeffs = gl_weights(alpha, n).into_iter().map(|w| w * scale).collect();
-        GrunwaldLetnikov { alpha, ts, coeffs, buf: vec![0.0; 2 * n], head: 0 }
+        GrunwaldLetnikov { alpha, ts, coeffs, buf: vec![0.0; 2 * n], head: 0, tail: vec![0.0; BLOCK], phase: 0 }
     }
 
     /// Order α.
@@ -212,17 +299,46 @@ impl GrunwaldLetnikov {
         if self.buf.len() != fresh.buf.len() || self.head >= self.coeffs.len() {
             return Err("Grünwald–Letnikov buffer does not match the memory length".into());
         }
-        crate::restored::finite("Grünwald–Letnikov buffer", &self.buf)
+        if self.tail.len() != BLOCK || self.phase >= BLOCK {
+            return Err("Grünwald–Letnikov block state is out of range".into());
+        }
+        crate::restored::finite("Grünwald–Letnikov buffer", &self.buf)?;
+        crate::restored::finite("Grünwald–Letnikov tail sums", &self.tail)
     }
 
-    /// Push sample `x_k` and return `D^α x (t_k)`.
+    /// Push sample `x_k` and return `D^α x (t_k)`: the head of `B` taps plus the block's tail
+    /// sum, summed for the whole block at its first sample (module documentation).
     #[inline]
     pub fn step(&mut self, x: f64) -> f64 {
+        let n = self.coeffs.len();
+        if n <= BLOCK {
+            return self.step_window(x);
+        }
+        if self.phase == 0 {
+            let acc: &mut [f64; BLOCK] = (&mut self.tail[..]).try_into().expect("the tail holds one block");
+            block_tail(&self.coeffs, &self.buf[self.head..self.head + n], acc);
+        }
+        self.push(x);
+        let i = self.phase;
+        self.phase = if i + 1 == BLOCK { 0 } else { i + 1 };
+        dot(&self.coeffs[..BLOCK], &self.buf[self.head..self.head + BLOCK]) + self.tail[BLOCK - 1 - i]
+    }
+
+    /// [`step`](Self::step) as one dot product over the whole window per sample: the reference
+    /// of the tests and the bench (the scheme of earlier releases). An operator is stepped by one
+    /// of the two only (this one leaves the block's tail sums alone).
+    #[inline]
+    pub fn step_window(&mut self, x: f64) -> f64 {
+        let n = self.coeffs.len();
+        self.push(x);
+        dot(&self.coeffs, &self.buf[self.head..self.head + n])
+    }
+
+    fn push(&mut self, x: f64) {
         let n = self.coeffs.len();
         self.head = if self.head == 0 { n - 1 } else { self.head - 1 };
         self.buf[self.head] = x;
         self.buf[self.head + n] = x;
-        dot(&self.coeffs, &self.buf[self.head..self.head + n])
     }
 
     /// Transfer function `Σ_j c_j z^(−j)` at `z` (the same taps [`step`](Self::step) uses).
@@ -240,7 +356,9 @@ impl GrunwaldLetnikov {
     /// Clear the history.
     pub fn reset(&mut self) {
         self.buf.iter_mut().for_each(|b| *b = 0.0);
+        self.tail.iter_mut().for_each(|b| *b = 0.0);
         self.head = 0;
+        self.phase = 0;
     }
 }
 
@@ -286,6 +404,72 @@ mod tests {
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
                 assert_eq!(dot(&a, &b).to_bits(), dot_fma(&a, &b).to_bits(), "n = {n}: the AVX2 path is dot_fma");
+            }
+        }
+    }
+
+    /// The block-precomputed step against the direct truncated sum and the per-sample window
+    /// sum (1e-12 of the terms' magnitudes), for memories around the block size and the default,
+    /// over several blocks; and a copy taken mid-block (serialised state) continues bitwise.
+    #[test]
+    fn block_tail_step_equals_direct_sum_and_window_sum() {
+        let (alpha, ts) = (0.154, 1e-5);
+        for l in [1, 30, 31, 32, 33, 63, 64, 65, 100, 1000] {
+            let mut fast = GrunwaldLetnikov::new(alpha, ts, l);
+            let mut window = GrunwaldLetnikov::new(alpha, ts, l);
+            let w = gl_weights(alpha, l + 1);
+            let s = ts.powf(-alpha);
+            let xs: Vec<f64> =
+                (0..l + 5 * BLOCK + 7).map(|k| (0.07 * k as f64).sin() + 0.3 * (0.011 * k as f64).cos()).collect();
+            let mut copy = None;
+            for k in 0..xs.len() {
+                let (got, reference) = (fast.step(xs[k]), window.step_window(xs[k]));
+                let terms: Vec<f64> = (0..=l.min(k)).map(|j| w[j] * xs[k - j] * s).collect();
+                let want: f64 = terms.iter().sum();
+                let scale: f64 = terms.iter().map(|t| t.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
+                assert!((got - want).abs() <= 1e-12 * scale, "L = {l}, k = {k}: {got} vs direct {want}");
+                assert!((got - reference).abs() <= 1e-12 * scale, "L = {l}, k = {k}: {got} vs window {reference}");
+                if k == xs.len() / 2 + 3 {
+                    copy = Some(fast.clone());
+                }
+            }
+            let mut copy = copy.unwrap();
+            copy.check(&GrunwaldLetnikov::new(alpha, ts, l)).unwrap();
+            let mut again = GrunwaldLetnikov::new(alpha, ts, l);
+            for (k, &x) in xs.iter().enumerate() {
+                let y = again.step(x);
+                if k > xs.len() / 2 + 3 {
+                    assert_eq!(copy.step(x).to_bits(), y.to_bits(), "L = {l}, k = {k}: the copy continues");
+                }
+            }
+        }
+    }
+
+    /// The dispatched tail sums are the scalar definition bitwise on AVX2 + FMA; the portable
+    /// sums agree with it to rounding.
+    #[test]
+    fn block_tails_equal_their_scalar_definition() {
+        for n in [BLOCK + 1, BLOCK + 2, 2 * BLOCK + 3, 1001] {
+            let c: Vec<f64> = gl_weights(0.37, n);
+            let p: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() * 1e-6).collect();
+            let (mut fma, mut portable, mut dispatched) = ([0.0; BLOCK], [0.0; BLOCK], [0.0; BLOCK]);
+            block_tail_fma(&c, &p, &mut fma);
+            block_tail_portable(&c, &p, &mut portable);
+            block_tail(&c, &p, &mut dispatched);
+            for q in 0..BLOCK {
+                let terms: Vec<f64> = (BLOCK..n).map(|j| c[j] * p[j - BLOCK + q]).collect();
+                let want: f64 = terms.iter().sum();
+                let scale: f64 = terms.iter().map(|t| t.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
+                assert!((fma[q] - want).abs() <= 1e-14 * scale, "n = {n}, q = {q}");
+                assert!((portable[q] - want).abs() <= 1e-14 * scale, "n = {n}, q = {q}");
+            }
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+                assert_eq!(
+                    fma.map(f64::to_bits),
+                    dispatched.map(f64::to_bits),
+                    "n = {n}: the AVX2 path is block_tail_fma"
+                );
             }
         }
     }
