@@ -444,7 +444,26 @@ macro_rules! getter {
     };
 }
 
-getter!(get_real, "fmi2GetReal", fmi2Real, ScalarType::Real, Value::Real(x) => *x);
+/// # Safety
+/// Arguments as in the FMI 2.0 standard.
+pub unsafe fn get_real<M: Fmi2Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    out: *mut fmi2Real,
+) -> fmi2Status {
+    const CALL: &str = "fmi2GetReal";
+    // SAFETY: forwarded contract.
+    unsafe {
+        with::<M>(c, CALL, mask::GET, |comp| {
+            let vrs = slice(CALL, "vr", vr, n)?;
+            let out = slice_mut(CALL, "value", out, n)?;
+            // straight into the host's array (the per-step call: no `Value` buffer)
+            comp.inst.get_reals(CALL, vrs, out)?;
+            Ok(fmi2OK)
+        })
+    }
+}
 getter!(get_integer, "fmi2GetInteger", fmi2Integer, ScalarType::Integer, Value::Integer(x) => *x);
 getter!(get_boolean, "fmi2GetBoolean", fmi2Boolean, ScalarType::Boolean, Value::Boolean(x) => fmi2Boolean::from(*x));
 
@@ -519,7 +538,26 @@ macro_rules! setter {
     };
 }
 
-setter!(set_real, "fmi2SetReal", fmi2Real, ScalarType::Real, |x| Ok(Value::Real(x)));
+/// # Safety
+/// Arguments as in the FMI 2.0 standard.
+pub unsafe fn set_real<M: Fmi2Model>(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    n: usize,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    const CALL: &str = "fmi2SetReal";
+    // SAFETY: forwarded contract.
+    unsafe {
+        with::<M>(c, CALL, mask::SET, |comp| {
+            let vrs = slice(CALL, "vr", vr, n)?;
+            let vals = slice(CALL, "value", value, n)?;
+            // straight from the host's array (the per-step call: no `Value` buffer)
+            comp.inst.set_reals(CALL, vrs, vals)?;
+            Ok(fmi2OK)
+        })
+    }
+}
 setter!(set_integer, "fmi2SetInteger", fmi2Integer, ScalarType::Integer, |x| Ok(Value::Integer(x)));
 setter!(set_boolean, "fmi2SetBoolean", fmi2Boolean, ScalarType::Boolean, |x| Ok(Value::Boolean(x != fmi2False)));
 setter!(set_string, "fmi2SetString", fmi2String, ScalarType::String, |p| {

@@ -445,6 +445,35 @@ impl<M: Fmi2Model> Instance<M> {
         Ok(())
     }
 
+    /// [`get`](Self::get) of Real variables straight into `out` (no [`Value`]; every reference
+    /// is looked up before any value is written): `fmi2GetReal`, once or twice per step.
+    pub fn get_reals(&mut self, call: &str, vrs: &[ValueReference], out: &mut [f64]) -> CallResult<()> {
+        self.refresh_for_get()?;
+        for &vr in vrs {
+            self.lookup(call, ScalarType::Real, vr)?;
+        }
+        for (&vr, o) in vrs.iter().zip(out) {
+            *o = self.values.real(vr);
+        }
+        Ok(())
+    }
+
+    /// [`set`](Self::set) of Real values without the [`Value`] buffer: `fmi2SetReal`. The same
+    /// checks, all before any value is stored.
+    pub fn set_reals(&mut self, call: &str, vrs: &[ValueReference], vals: &[f64]) -> CallResult<()> {
+        for (&vr, &x) in vrs.iter().zip(vals) {
+            let v = self.lookup(call, ScalarType::Real, vr)?;
+            self.check_value(call, v, &Value::Real(x))?;
+        }
+        for (&vr, &x) in vrs.iter().zip(vals) {
+            self.values.set_real(vr, x);
+        }
+        if matches!(self.state, State::Instantiated | State::InitializationMode) {
+            self.dirty = true;
+        }
+        Ok(())
+    }
+
     /// May `v` be set in the current state? (FMI 2.0.4, Table 4.2.4 / 2.2.7.)
     fn settable(&self, v: &ScalarVariable) -> bool {
         if v.variability == Variability::Constant {

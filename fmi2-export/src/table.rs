@@ -46,7 +46,26 @@ pub trait Scalar: Sized {
     fn to_value(&self) -> Value;
     /// From an FMI value of type [`Scalar::TYPE`]; the error says why the value does not fit.
     fn from_value(v: &Value) -> Result<Self, String>;
+    /// The field selected by `read` and `write` as a [`RealField`] when `Self` is `f64` (the
+    /// per-step inputs and outputs then bypass [`Value`]); `None` for the other types.
+    fn real_field<S>(_read: fn(&S) -> &Self, _write: fn(&mut S) -> &mut Self) -> Option<RealField<S>> {
+        None
+    }
 }
+
+/// A Real field of `S` read and written directly (no [`Value`], no boxed closure): what
+/// [`Table::read_inputs`] and [`Table::write_outputs`] use every step for `f64` rows.
+pub struct RealField<S> {
+    read: fn(&S) -> &f64,
+    write: fn(&mut S) -> &mut f64,
+}
+
+impl<S> Clone for RealField<S> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<S> Copy for RealField<S> {}
 
 fn mismatch(expected: &str, v: &Value) -> String {
     format!("expected {expected}, got {v:?}")
@@ -62,6 +81,9 @@ impl Scalar for f64 {
             Value::Real(x) => Ok(*x),
             v => Err(mismatch("a Real", v)),
         }
+    }
+    fn real_field<S>(read: fn(&S) -> &f64, write: fn(&mut S) -> &mut f64) -> Option<RealField<S>> {
+        Some(RealField { read, write })
     }
 }
 
@@ -153,6 +175,8 @@ pub struct Row<S> {
     pub choice: Option<ChoiceType>,
     get: Getter<S>,
     set: Setter<S>,
+    /// The same field as `get`/`set` for `f64` fields of [`Row::field`] (the per-step path).
+    real: Option<RealField<S>>,
 }
 
 impl<S> std::fmt::Debug for Row<S> {
@@ -185,6 +209,7 @@ impl<S: 'static> Row<S> {
                 *write(s) = T::from_value(v)?;
                 Ok(())
             }),
+            real: T::real_field(read, write),
         }
     }
 
@@ -206,6 +231,7 @@ impl<S: 'static> Row<S> {
                 }
                 v => Err(mismatch("an enumeration value", v)),
             }),
+            real: None,
         }
     }
 
@@ -221,6 +247,7 @@ impl<S: 'static> Row<S> {
                 set(s, T::from_value(v)?);
                 Ok(())
             }),
+            real: None,
         }
     }
 
@@ -368,7 +395,10 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     pub fn read_inputs(&self, v: &Values) -> Result<I, String> {
         let mut i = I::default();
         for r in &self.vars.inputs {
-            r.set(&mut i, &v.get(r.ty.api_type(), r.attrs.vr))?;
+            match r.real {
+                Some(f) => *(f.write)(&mut i) = v.real(r.attrs.vr),
+                None => r.set(&mut i, &v.get(r.ty.api_type(), r.attrs.vr))?,
+            }
         }
         Ok(i)
     }
@@ -376,7 +406,10 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     /// Write every output of `o` into the store.
     pub fn write_outputs(&self, o: &O, v: &mut Values) {
         for r in &self.vars.outputs {
-            v.set(r.attrs.vr, &r.get(o));
+            match r.real {
+                Some(f) => v.set_real(r.attrs.vr, *(f.read)(o)),
+                None => v.set(r.attrs.vr, &r.get(o)),
+            }
         }
     }
 
@@ -515,4 +548,44 @@ pub trait TableModel: crate::Fmi2Model {
     fn table() -> &'static Table<Self::Params, Self::Inputs, Self::Outputs>;
     /// The parameters the running model was built with.
     fn parameters(&self) -> &Self::Params;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Default)]
+    struct S {
+        a: f64,
+        b: f64,
+        flag: bool,
+    }
+
+    fn attrs(vr: ValueReference, name: &'static str) -> Attrs {
+        Attrs { vr, name, unit: "", bounds: None, description: "", discrete: false }
+    }
+
+    /// The per-step path of `f64` rows ([`RealField`], used by `read_inputs`/`write_outputs`)
+    /// reads and writes the same field as the row's `get`/`set`; other types have none.
+    #[test]
+    fn real_fields_are_the_rows_fields() {
+        let rows = [
+            Row::<S>::field(attrs(0, "a"), |s| &s.a, |s| &mut s.a),
+            Row::<S>::field(attrs(1, "b"), |s| &s.b, |s| &mut s.b),
+            Row::<S>::field(attrs(0, "flag"), |s| &s.flag, |s| &mut s.flag),
+            Row::<S>::computed(attrs(2, "twice_a"), |s| 2.0 * s.a, |s, x| s.a = x / 2.0),
+        ];
+        assert!(rows[0].real.is_some() && rows[1].real.is_some());
+        assert!(rows[2].real.is_none() && rows[3].real.is_none(), "only plain f64 fields bypass Value");
+        for (k, r) in rows.iter().take(2).enumerate() {
+            let f = r.real.unwrap();
+            let mut s = S::default();
+            *(f.write)(&mut s) = 1.5 + k as f64;
+            assert_eq!(r.get(&s), Value::Real(1.5 + k as f64));
+            r.set(&mut s, &Value::Real(-3.0)).unwrap();
+            assert_eq!(*(f.read)(&s), -3.0);
+            let other = if k == 0 { s.b } else { s.a };
+            assert_eq!(other, 0.0, "row {k} wrote another field");
+        }
+    }
 }

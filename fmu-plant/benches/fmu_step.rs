@@ -41,7 +41,10 @@ fn vr(name: &str) -> u32 {
     MillingPlant::description().variable(name).expect("a plant variable").value_reference
 }
 
-fn fmu_ns(steps: usize, modes: i32) -> f64 {
+/// The FMU step on the safe `Instance`: Real inputs and outputs through `set_reals`/`get_reals`
+/// (what `fmi2SetReal`/`fmi2GetReal` call) or, `generic`, through `set`/`get` with `Value`s
+/// (the path of the other types, and of the Reals in earlier releases).
+fn fmu_ns(steps: usize, modes: i32, generic: bool) -> f64 {
     let (ins, outs) = (reals(Causality::Input), reals(Causality::Output));
     let mut inst = Instance::<MillingPlant>::new(Environment::default(), false, Box::new(Quiet));
     inst.setup_experiment(0.0, None).unwrap();
@@ -50,14 +53,24 @@ fn fmu_ns(steps: usize, modes: i32) -> f64 {
     inst.exit_initialization().unwrap();
     let mut out = Vec::new();
     let mut vals: Vec<Value> = Vec::new();
+    let (zeros, mut direct) = (vec![0.0; ins.len()], vec![0.0; outs.len()]);
     let start = cpu_seconds();
     for k in 0..steps {
-        vals.clear();
-        vals.extend(ins.iter().map(|_| Value::Real(0.0)));
-        inst.set("fmi2SetReal", ScalarType::Real, &ins, black_box(&vals)).unwrap();
+        if generic {
+            vals.clear();
+            vals.extend(ins.iter().map(|_| Value::Real(0.0)));
+            inst.set("fmi2SetReal", ScalarType::Real, &ins, black_box(&vals)).unwrap();
+        } else {
+            inst.set_reals("fmi2SetReal", &ins, black_box(&zeros)).unwrap();
+        }
         inst.do_step(k as f64 * 1e-5, 1e-5).unwrap();
-        inst.get("fmi2GetReal", ScalarType::Real, &outs, &mut out).unwrap();
-        black_box(&out);
+        if generic {
+            inst.get("fmi2GetReal", ScalarType::Real, &outs, &mut out).unwrap();
+            black_box(&out);
+        } else {
+            inst.get_reals("fmi2GetReal", &outs, &mut direct).unwrap();
+            black_box(&direct);
+        }
     }
     (cpu_seconds() - start) * 1e9 / steps as f64
 }
@@ -82,17 +95,23 @@ fn main() {
         "plant step, 10 µs, defaults (time-domain cutting, noise, drift), best of {rounds} × {steps}, thread CPU time"
     );
     println!(
-        "| modes | plant core `Plant::step` [ns] | FMU step: set {} real inputs, fmi2DoStep, get {} real outputs [ns] | export layer (difference) [ns] | FMU / core |",
+        "| modes | plant core `Plant::step` [ns] | FMU step: set {} real inputs, fmi2DoStep, get {} real outputs [ns] | export layer (difference) [ns] | FMU / core | same with `Value`s (generic path) [ns] | generic / direct export layer |",
         reals(Causality::Input).len(),
         reals(Causality::Output).len()
     );
-    println!("|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     for modes in [1, 3] {
-        let (mut fmu, mut core) = (f64::INFINITY, f64::INFINITY);
+        let (mut fmu, mut core, mut generic) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
         for _ in 0..rounds {
-            fmu = fmu.min(fmu_ns(steps, modes));
+            fmu = fmu.min(fmu_ns(steps, modes, false));
             core = core.min(core_ns(steps, modes as u32));
+            generic = generic.min(fmu_ns(steps, modes, true));
         }
-        println!("| {modes} | {core:.1} | {fmu:.1} | {:.1} | {:.2} |", fmu - core, fmu / core);
+        println!(
+            "| {modes} | {core:.1} | {fmu:.1} | {:.1} | {:.2} | {generic:.1} | {:.2} |",
+            fmu - core,
+            fmu / core,
+            (generic - core) / (fmu - core)
+        );
     }
 }
