@@ -33,8 +33,12 @@
 //! summed in order of `j` with one fused multiply–add per term (the scalar definition,
 //! [`block_tail_fma`], is bitwise what the AVX2 code computes); the head is the window dot
 //! product of `B` taps. Same terms as the window sum, different rounding (1e-15 of the terms'
-//! magnitudes; tests compare both with the direct sum). The per-sample window sum stays as
-//! [`GrunwaldLetnikov::step_window`], the reference of the tests and the bench.
+//! magnitudes; tests compare both with the direct sum). When the window holds two blocks
+//! (`L + 1 ≥ 2B`) the tail sums are instead computed by uniformly partitioned FFT convolution
+//! ([`crate::partitioned`]: `P·(B+1)` complex multiply–adds and two FFTs per block instead of
+//! `B·(L+1−B)` multiply–adds); the direct tail stays selectable
+//! ([`GrunwaldLetnikov::with_direct_tail`]) and the per-sample window sum as
+//! [`GrunwaldLetnikov::step_window`], the references of the tests and the bench.
 //!
 //! For a sinusoid at ω the truncated tail relative to the full operator is about
 //! `(ω L T)^(−(1+α)) / |Γ(−α)|` (summation by parts of `w_j ~ j^(−α−1)/Γ(−α)`). It is small
@@ -45,6 +49,7 @@
 //! The first-order accuracy of GL (error `O(T)` for smooth signals) is checked in the tests
 //! on `D^0.5 1 = 1/√(πt)` and `D^0.5 t = 2√t/√π`.
 
+use crate::partitioned::PartitionedTail;
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
@@ -260,6 +265,8 @@ pub struct GrunwaldLetnikov {
     tail: Vec<f64>,
     /// Index in the block of the next sample (the tail is summed when it is 0).
     phase: usize,
+    /// The tail by partitioned FFT convolution (None: summed directly).
+    partitioned: Option<PartitionedTail>,
 }
 
 impl GrunwaldLetnikov {
@@ -267,11 +274,31 @@ impl GrunwaldLetnikov {
     /// (plus the current one).
     pub fn new(alpha: f64, ts: f64, memory_length: usize) -> Self {
         let n = memory_length + 1;
+        let mut op = Self::with_direct_tail(alpha, ts, memory_length);
+        if n >= 2 * BLOCK {
+            op.partitioned = Some(PartitionedTail::new(&op.coeffs));
+        }
+        op
+    }
+
+    /// [`new`](Self::new) with the block's tail summed directly ([`block_tail`]) at every
+    /// memory length: the reference of the partitioned tail in the tests and the bench.
+    pub fn with_direct_tail(alpha: f64, ts: f64, memory_length: usize) -> Self {
+        let n = memory_length + 1;
         // `libm::pow`, not `f64::powf` (the platform's libm): glibc and the Windows CRT may differ
         // in the last bit, and the FMUs compute the same bits on linux64 and win64
         let scale = libm::pow(ts, -alpha);
         let coeffs = gl_weights(alpha, n).into_iter().map(|w| w * scale).collect();
-        GrunwaldLetnikov { alpha, ts, coeffs, buf: vec![0.0; 2 * n], head: 0, tail: vec![0.0; BLOCK], phase: 0 }
+        GrunwaldLetnikov {
+            alpha,
+            ts,
+            coeffs,
+            buf: vec![0.0; 2 * n],
+            head: 0,
+            tail: vec![0.0; BLOCK],
+            phase: 0,
+            partitioned: None,
+        }
     }
 
     /// Order α.
@@ -303,7 +330,12 @@ impl GrunwaldLetnikov {
             return Err("Grünwald–Letnikov block state is out of range".into());
         }
         crate::restored::finite("Grünwald–Letnikov buffer", &self.buf)?;
-        crate::restored::finite("Grünwald–Letnikov tail sums", &self.tail)
+        crate::restored::finite("Grünwald–Letnikov tail sums", &self.tail)?;
+        match (&self.partitioned, &fresh.partitioned) {
+            (None, None) => Ok(()),
+            (Some(a), Some(b)) => a.check(b),
+            _ => Err("Grünwald–Letnikov tail method does not match the memory length".into()),
+        }
     }
 
     /// Push sample `x_k` and return `D^α x (t_k)`: the head of `B` taps plus the block's tail
@@ -316,7 +348,11 @@ impl GrunwaldLetnikov {
         }
         if self.phase == 0 {
             let acc: &mut [f64; BLOCK] = (&mut self.tail[..]).try_into().expect("the tail holds one block");
-            block_tail(&self.coeffs, &self.buf[self.head..self.head + n], acc);
+            let window = &self.buf[self.head..self.head + n];
+            match &mut self.partitioned {
+                Some(p) => p.block(window, acc),
+                None => block_tail(&self.coeffs, window, acc),
+            }
         }
         self.push(x);
         let i = self.phase;
@@ -359,6 +395,9 @@ impl GrunwaldLetnikov {
         self.tail.iter_mut().for_each(|b| *b = 0.0);
         self.head = 0;
         self.phase = 0;
+        if let Some(p) = &mut self.partitioned {
+            p.reset();
+        }
     }
 }
 
@@ -414,8 +453,14 @@ mod tests {
     #[test]
     fn block_tail_step_equals_direct_sum_and_window_sum() {
         let (alpha, ts) = (0.154, 1e-5);
-        for l in [1, 30, 31, 32, 33, 63, 64, 65, 100, 1000] {
+        for l in [1, 30, 31, 32, 33, 62, 63, 64, 65, 100, 1000] {
             let mut fast = GrunwaldLetnikov::new(alpha, ts, l);
+            assert_eq!(
+                fast.partitioned.is_some(),
+                l + 1 >= 2 * BLOCK,
+                "L = {l}: the partitioned tail from two blocks on"
+            );
+            let mut direct = GrunwaldLetnikov::with_direct_tail(alpha, ts, l);
             let mut window = GrunwaldLetnikov::new(alpha, ts, l);
             let w = gl_weights(alpha, l + 1);
             let s = ts.powf(-alpha);
@@ -423,12 +468,13 @@ mod tests {
                 (0..l + 5 * BLOCK + 7).map(|k| (0.07 * k as f64).sin() + 0.3 * (0.011 * k as f64).cos()).collect();
             let mut copy = None;
             for k in 0..xs.len() {
-                let (got, reference) = (fast.step(xs[k]), window.step_window(xs[k]));
+                let (got, reference, direct) = (fast.step(xs[k]), window.step_window(xs[k]), direct.step(xs[k]));
                 let terms: Vec<f64> = (0..=l.min(k)).map(|j| w[j] * xs[k - j] * s).collect();
                 let want: f64 = terms.iter().sum();
                 let scale: f64 = terms.iter().map(|t| t.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
                 assert!((got - want).abs() <= 1e-12 * scale, "L = {l}, k = {k}: {got} vs direct {want}");
                 assert!((got - reference).abs() <= 1e-12 * scale, "L = {l}, k = {k}: {got} vs window {reference}");
+                assert!((direct - want).abs() <= 1e-12 * scale, "L = {l}, k = {k}: direct tail {direct} vs {want}");
                 if k == xs.len() / 2 + 3 {
                     copy = Some(fast.clone());
                 }

@@ -25,7 +25,8 @@
 //! | [`pid`] | discrete PID with anti-windup |
 //! | [`fopid`] | FOPID from two fractional operators |
 //! | [`fractional`] | `D^α` = exact integer part × GL or Oustaloup non-integer part |
-//! | [`grunwald`] | short-memory Grünwald–Letnikov (ring buffer FIR) |
+//! | [`grunwald`] | short-memory Grünwald–Letnikov (ring buffer FIR, block-precomputed tail) |
+//! | [`partitioned`] | the GL tail by uniformly partitioned FFT convolution (the default for L ≥ 63) |
 //! | [`oustaloup`] | Oustaloup filter, Tustin with prewarping |
 //! | [`eso`] | linear ESO, exact ZOH model + current observer with poles `e^{−ωo T}` |
 //! | [`td`] | Han's tracking differentiator |
@@ -37,6 +38,7 @@ pub mod fractional;
 pub mod grunwald;
 pub mod oustaloup;
 pub mod params;
+pub mod partitioned;
 pub mod pid;
 pub mod td;
 
