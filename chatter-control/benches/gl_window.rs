@@ -9,7 +9,8 @@
 //! `cargo bench -p chatter-control --bench gl_window` (`cargo test --benches`: a short run).
 #![allow(missing_docs)]
 
-use chatter_control::grunwald::{GrunwaldLetnikov, dot_portable};
+use chatter_control::grunwald::GrunwaldLetnikov;
+use chatter_control::kernels::dot_portable;
 use chatter_control::{Controller, ControllerParams, FractionalMethod, Structure};
 use std::hint::black_box;
 

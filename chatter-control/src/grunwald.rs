@@ -31,7 +31,7 @@
 //! multiplies `B` consecutive samples, so a multiply–add costs one load instead of two (the
 //! per-sample dot product of the whole window is bound by the L1 read bandwidth). Each `T_i` is
 //! summed in order of `j` with one fused multiply–add per term (the scalar definition,
-//! [`block_tail_fma`], is bitwise what the AVX2 code computes); the head is the window dot
+//! [`crate::kernels::block_tail_fma`], is bitwise what the AVX2 code computes); the head is the window dot
 //! product of `B` taps. Same terms as the window sum, different rounding (1e-15 of the terms'
 //! magnitudes; tests compare both with the direct sum). When the window holds two blocks
 //! (`L + 1 ≥ 2B`) the tail sums are instead computed by uniformly partitioned FFT convolution
@@ -49,6 +49,7 @@
 //! The first-order accuracy of GL (error `O(T)` for smooth signals) is checked in the tests
 //! on `D^0.5 1 = 1/√(πt)` and `D^0.5 t = 2√t/√π`.
 
+use crate::kernels::{BLOCK, block_tail, dot};
 use crate::partitioned::PartitionedTail;
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
@@ -64,164 +65,6 @@ pub fn gl_weights(alpha: f64, n: usize) -> Vec<f64> {
         w.push(wj);
     }
     w
-}
-
-/// Dot product `Σ a_i b_i` of the taps and the window (the whole cost of a GL sample).
-///
-/// On x86-64 processors with AVX2 and FMA (detected at run time) the sum is taken as defined by
-/// [`dot_fma`] (32 fused multiply–add accumulators in eight 256-bit registers); elsewhere by
-/// [`dot_portable`] (eight accumulators of `x·y + acc`, which the baseline SSE2 vectorises).
-/// Both have a fixed summation order, so a run is reproducible on one machine; the two differ
-/// in rounding only (relative 1e-16 per sum; the tests compare both with the direct sum). The
-/// fused path is 1.7× faster on the project's machine (`cargo bench -p chatter-control --bench
-/// gl_window` prints the ratio).
-#[inline]
-pub fn dot(a: &[f64], b: &[f64]) -> f64 {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU has AVX2 and FMA (checked just above), the only requirement of
-        // `dot_fma_avx2`'s target features.
-        return unsafe { dot_fma_avx2(a, b) };
-    }
-    dot_portable(a, b)
-}
-
-/// [`dot`] without fused multiply–add: eight independent accumulators (vectorises on any x86-64).
-#[inline]
-pub fn dot_portable(a: &[f64], b: &[f64]) -> f64 {
-    let ca = a.chunks_exact(8);
-    let cb = b.chunks_exact(8);
-    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
-    let mut acc = [0.0f64; 8];
-    for (x, y) in ca.zip(cb) {
-        for i in 0..8 {
-            acc[i] += x[i] * y[i];
-        }
-    }
-    ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail
-}
-
-/// Lanes of [`dot_fma`]: eight 4-wide accumulators (eight fused multiply–adds in flight cover
-/// the instruction's latency on current x86-64 cores).
-const FMA_LANES: usize = 32;
-
-/// [`dot`] with fused multiply–add, the scalar definition of the AVX2 path: 32 independent
-/// accumulators `acc_j = x·y + acc_j` (one rounding per term), reduced as eight 4-wide registers
-/// `r_0..r_7` (lane j of register k is `acc_{4k+j}`): `((r0+r4) + (r2+r6)) + ((r1+r5) + (r3+r7))`,
-/// then the lanes `(v0+v2) + (v1+v3)`, then the remainder's plain sum. Without hardware FMA
-/// `mul_add` is a slow library call, so [`dot`] uses the AVX2 code (bitwise equal to this, a
-/// test) only where the CPU has it; this function is for the tests and the bench.
-pub fn dot_fma(a: &[f64], b: &[f64]) -> f64 {
-    let ca = a.chunks_exact(FMA_LANES);
-    let cb = b.chunks_exact(FMA_LANES);
-    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
-    let mut acc = [0.0f64; FMA_LANES];
-    for (x, y) in ca.zip(cb) {
-        for j in 0..FMA_LANES {
-            acc[j] = x[j].mul_add(y[j], acc[j]);
-        }
-    }
-    let r = |k: usize, j: usize| acc[4 * k + j];
-    let v: [f64; 4] = std::array::from_fn(|j| {
-        ((r(0, j) + r(4, j)) + (r(2, j) + r(6, j))) + ((r(1, j) + r(5, j)) + (r(3, j) + r(7, j)))
-    });
-    ((v[0] + v[2]) + (v[1] + v[3])) + tail
-}
-
-/// [`dot_fma`] with AVX2 + FMA instructions (eight `ymm` accumulators), bitwise equal to it.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn dot_fma_avx2(a: &[f64], b: &[f64]) -> f64 {
-    use std::arch::x86_64::*;
-    let n = a.len().min(b.len());
-    let blocks = n / FMA_LANES;
-    let mut r = [_mm256_setzero_pd(); 8];
-    for i in 0..blocks {
-        let xa = &a[i * FMA_LANES..(i + 1) * FMA_LANES];
-        let xb = &b[i * FMA_LANES..(i + 1) * FMA_LANES];
-        for (k, rk) in r.iter_mut().enumerate() {
-            // SAFETY: `xa` and `xb` hold 32 elements, so lanes 4k..4k+4 (k < 8) are in bounds;
-            // unaligned loads need no alignment.
-            let (va, vb) =
-                unsafe { (_mm256_loadu_pd(xa.as_ptr().add(4 * k)), _mm256_loadu_pd(xb.as_ptr().add(4 * k))) };
-            *rk = _mm256_fmadd_pd(va, vb, *rk);
-        }
-    }
-    let t = _mm256_add_pd(
-        _mm256_add_pd(_mm256_add_pd(r[0], r[4]), _mm256_add_pd(r[2], r[6])),
-        _mm256_add_pd(_mm256_add_pd(r[1], r[5]), _mm256_add_pd(r[3], r[7])),
-    );
-    let mut v = [0.0f64; 4];
-    // SAFETY: `v` holds four f64, the width of the store.
-    unsafe { _mm256_storeu_pd(v.as_mut_ptr(), t) };
-    let tail: f64 = a[blocks * FMA_LANES..n].iter().zip(&b[blocks * FMA_LANES..n]).map(|(x, y)| x * y).sum();
-    ((v[0] + v[2]) + (v[1] + v[3])) + tail
-}
-
-/// Samples per block of the precomputed tail sums (see the module documentation).
-pub const BLOCK: usize = 32;
-
-/// The tail sums of one block, scalar definition: with `p` the window before the block's first
-/// sample (`p_m = x_{k−1−m}`, at least `c.len() − 1` samples), `acc_q = Σ_{j=B..n−1} c_j p_{j−B+q}`
-/// summed in order of `j` with one fused multiply–add per term, for `q = 0..B−1`; the tail of the
-/// block's sample `i` is `acc_{B−1−i}`. Without hardware FMA `mul_add` is a slow library call, so
-/// [`block_tail`] runs the AVX2 code (bitwise equal, a test) where the CPU has it and
-/// [`block_tail_portable`] elsewhere; this function is for the tests.
-pub fn block_tail_fma(c: &[f64], p: &[f64], acc: &mut [f64; BLOCK]) {
-    *acc = [0.0; BLOCK];
-    for (j, &cj) in c.iter().enumerate().skip(BLOCK) {
-        let w = &p[j - BLOCK..j];
-        for q in 0..BLOCK {
-            acc[q] = cj.mul_add(w[q], acc[q]);
-        }
-    }
-}
-
-/// [`block_tail_fma`] without fused multiply–add (`acc + c·p`, two roundings), the path of CPUs
-/// without AVX2 + FMA (the inner loop vectorises on any x86-64).
-pub fn block_tail_portable(c: &[f64], p: &[f64], acc: &mut [f64; BLOCK]) {
-    *acc = [0.0; BLOCK];
-    for (j, &cj) in c.iter().enumerate().skip(BLOCK) {
-        let w = &p[j - BLOCK..j];
-        for q in 0..BLOCK {
-            acc[q] += cj * w[q];
-        }
-    }
-}
-
-/// The block's tail sums ([`block_tail_fma`] on CPUs with AVX2 + FMA, else [`block_tail_portable`]).
-#[inline]
-pub fn block_tail(c: &[f64], p: &[f64], acc: &mut [f64; BLOCK]) {
-    assert!(p.len() + 1 >= c.len(), "the window holds the block's tail samples");
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU has AVX2 and FMA (checked just above), the only requirement of
-        // `block_tail_avx2`'s target features.
-        return unsafe { block_tail_avx2(c, p, acc) };
-    }
-    block_tail_portable(c, p, acc)
-}
-
-/// [`block_tail_fma`] with AVX2 + FMA: eight `ymm` accumulators (lanes `4r..4r+3`), one
-/// broadcast tap and eight fused multiply–adds with memory operands per tap; bitwise equal to it.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn block_tail_avx2(c: &[f64], p: &[f64], acc: &mut [f64; BLOCK]) {
-    use std::arch::x86_64::*;
-    let mut r = [_mm256_setzero_pd(); BLOCK / 4];
-    for (j, &cj) in c.iter().enumerate().skip(BLOCK) {
-        let cv = _mm256_set1_pd(cj);
-        let w = p[j - BLOCK..j].as_ptr();
-        for (k, rk) in r.iter_mut().enumerate() {
-            // SAFETY: `w` points at the B elements `p[j − B .. j]` (bounds-checked slice), and lanes
-            // 4k..4k+4 ≤ B of them are read; unaligned loads need no alignment.
-            *rk = _mm256_fmadd_pd(cv, unsafe { _mm256_loadu_pd(w.add(4 * k)) }, *rk);
-        }
-    }
-    for (k, rk) in r.iter().enumerate() {
-        // SAFETY: `acc[4k .. 4k + 4]` is in bounds (k < B/4).
-        unsafe { _mm256_storeu_pd(acc.as_mut_ptr().add(4 * k), *rk) };
-    }
 }
 
 /// `Σ_j c_j w^j` as eight interleaved Horner chains: `Σ_{r<8} w^r q_r(w^8)` with
@@ -261,7 +104,7 @@ pub struct GrunwaldLetnikov {
     /// Ring buffer of length `2 (L + 1)`, each sample written twice.
     buf: Vec<f64>,
     head: usize,
-    /// The current block's tail sums (`acc` of [`block_tail_fma`]; unused when `L + 1 ≤ B`).
+    /// The current block's tail sums (`acc` of [`crate::kernels::block_tail_fma`]; unused when `L + 1 ≤ B`).
     tail: Vec<f64>,
     /// Index in the block of the next sample (the tail is summed when it is 0).
     phase: usize,
@@ -426,27 +269,6 @@ mod tests {
         }
     }
 
-    /// Both dot products (and the dispatched one) against the plain left-to-right sum, for every
-    /// length up to 70 (all remainders of the 8- and 32-wide loops) and the default 1001 taps.
-    #[test]
-    fn dot_products_equal_the_plain_sum() {
-        for n in (0..=70).chain([1001]) {
-            let a: Vec<f64> = (0..n).map(|i| (-0.5f64).powi(i % 7) / (1.0 + i as f64)).collect();
-            let b: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() * 1e-6).collect();
-            let plain: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
-            let scale: f64 = a.iter().zip(&b).map(|(x, y)| (x * y).abs()).sum::<f64>().max(f64::MIN_POSITIVE);
-            for (name, got) in
-                [("portable", dot_portable(&a, &b)), ("fma", dot_fma(&a, &b)), ("dispatched", dot(&a, &b))]
-            {
-                assert!((got - plain).abs() <= 1e-14 * scale, "{name}, n = {n}: {got} vs {plain}");
-            }
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-                assert_eq!(dot(&a, &b).to_bits(), dot_fma(&a, &b).to_bits(), "n = {n}: the AVX2 path is dot_fma");
-            }
-        }
-    }
-
     /// The block-precomputed step against the direct truncated sum and the per-sample window
     /// sum (1e-12 of the terms' magnitudes), for memories around the block size and the default,
     /// over several blocks; and a copy taken mid-block (serialised state) continues bitwise.
@@ -487,35 +309,6 @@ mod tests {
                 if k > xs.len() / 2 + 3 {
                     assert_eq!(copy.step(x).to_bits(), y.to_bits(), "L = {l}, k = {k}: the copy continues");
                 }
-            }
-        }
-    }
-
-    /// The dispatched tail sums are the scalar definition bitwise on AVX2 + FMA; the portable
-    /// sums agree with it to rounding.
-    #[test]
-    fn block_tails_equal_their_scalar_definition() {
-        for n in [BLOCK + 1, BLOCK + 2, 2 * BLOCK + 3, 1001] {
-            let c: Vec<f64> = gl_weights(0.37, n);
-            let p: Vec<f64> = (0..n).map(|i| (0.37 * i as f64).sin() * 1e-6).collect();
-            let (mut fma, mut portable, mut dispatched) = ([0.0; BLOCK], [0.0; BLOCK], [0.0; BLOCK]);
-            block_tail_fma(&c, &p, &mut fma);
-            block_tail_portable(&c, &p, &mut portable);
-            block_tail(&c, &p, &mut dispatched);
-            for q in 0..BLOCK {
-                let terms: Vec<f64> = (BLOCK..n).map(|j| c[j] * p[j - BLOCK + q]).collect();
-                let want: f64 = terms.iter().sum();
-                let scale: f64 = terms.iter().map(|t| t.abs()).sum::<f64>().max(f64::MIN_POSITIVE);
-                assert!((fma[q] - want).abs() <= 1e-14 * scale, "n = {n}, q = {q}");
-                assert!((portable[q] - want).abs() <= 1e-14 * scale, "n = {n}, q = {q}");
-            }
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-                assert_eq!(
-                    fma.map(f64::to_bits),
-                    dispatched.map(f64::to_bits),
-                    "n = {n}: the AVX2 path is block_tail_fma"
-                );
             }
         }
     }

@@ -26,6 +26,7 @@
 //! | [`fopid`] | FOPID from two fractional operators |
 //! | [`fractional`] | `D^α` = exact integer part × GL or Oustaloup non-integer part |
 //! | [`grunwald`] | short-memory Grünwald–Letnikov (ring buffer FIR, block-precomputed tail) |
+//! | [`kernels`] | the GL window dot product and block tail sums (scalar definitions, AVX2, portable) |
 //! | [`partitioned`] | the GL tail by uniformly partitioned FFT convolution (the default for L ≥ 63) |
 //! | [`oustaloup`] | Oustaloup filter, Tustin with prewarping |
 //! | [`eso`] | linear ESO, exact ZOH model + current observer with poles `e^{−ωo T}` |
@@ -36,6 +37,7 @@ pub mod eso;
 pub mod fopid;
 pub mod fractional;
 pub mod grunwald;
+pub mod kernels;
 pub mod oustaloup;
 pub mod params;
 pub mod partitioned;
