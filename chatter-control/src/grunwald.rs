@@ -49,7 +49,7 @@
 //! The first-order accuracy of GL (error `O(T)` for smooth signals) is checked in the tests
 //! on `D^0.5 1 = 1/√(πt)` and `D^0.5 t = 2√t/√π`.
 
-use crate::kernels::{BLOCK, block_tail, dot};
+use crate::kernels::{BLOCK, block_tail, dot, dot_head};
 use crate::partitioned::PartitionedTail;
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
@@ -200,7 +200,7 @@ impl GrunwaldLetnikov {
         self.push(x);
         let i = self.phase;
         self.phase = if i + 1 == BLOCK { 0 } else { i + 1 };
-        dot(&self.coeffs[..BLOCK], &self.buf[self.head..self.head + BLOCK]) + self.tail[BLOCK - 1 - i]
+        dot_head(&self.coeffs, x, &self.buf[self.head + 1..self.head + BLOCK]) + self.tail[BLOCK - 1 - i]
     }
 
     /// [`step`](Self::step) as one dot product over the whole window per sample: the reference

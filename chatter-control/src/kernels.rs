@@ -108,6 +108,55 @@ fn dot_fma_avx2(a: &[f64], b: &[f64]) -> f64 {
     ((v[0] + v[2]) + (v[1] + v[3])) + tail
 }
 
+/// The head of a GL sample: [`dot`]`(c, b)` of the first [`BLOCK`] taps with the newest
+/// [`BLOCK`] samples, where `b_0 = x` is the sample just stored (`b` = `[x, older…]`, `older`
+/// holding at least `BLOCK − 1` samples). The same sum as [`dot`] to the bit; the AVX2 path takes
+/// `x` from its register instead of loading the vector that holds the fresh store (a 256-bit load
+/// over a 64-bit store still in the store buffer cannot be forwarded and waits for it to reach
+/// the cache: half of the head's cost).
+#[inline]
+pub fn dot_head(c: &[f64], x: f64, older: &[f64]) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU has AVX2 and FMA (checked just above), the only requirement of
+        // `dot_head_avx2`'s target features.
+        return unsafe { dot_head_avx2(c, x, older) };
+    }
+    let mut b = [0.0; BLOCK];
+    b[0] = x;
+    b[1..].copy_from_slice(&older[..BLOCK - 1]);
+    dot_portable(&c[..BLOCK], &b)
+}
+
+/// [`dot_head`] with AVX2 + FMA: [`dot_fma_avx2`] over one block of 32 lanes, the first register
+/// `[x, b_1, b_2, b_3]` built from `x` and `[b_1..b_4]` (permute and blend); bitwise [`dot_fma`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn dot_head_avx2(c: &[f64], x: f64, older: &[f64]) -> f64 {
+    use std::arch::x86_64::*;
+    assert!(c.len() >= BLOCK && older.len() >= BLOCK - 1, "dot_head needs a block of taps and samples");
+    // SAFETY (all loads): `c` holds at least 32 taps and `older` at least 31 samples (asserted
+    // above), so lanes 4k..4k+4 of `c` and `older[4k−1..4k+3]` (k ≥ 1), `older[0..4]` are in bounds.
+    let first = unsafe { _mm256_loadu_pd(older.as_ptr()) }; // [b1, b2, b3, b4]
+    let first = _mm256_permute4x64_pd::<0b10_01_00_11>(first); // [b4, b1, b2, b3]
+    let first = _mm256_blend_pd::<0b0001>(first, _mm256_set1_pd(x)); // [x, b1, b2, b3]
+    let mut r = [_mm256_setzero_pd(); 8];
+    r[0] = _mm256_fmadd_pd(unsafe { _mm256_loadu_pd(c.as_ptr()) }, first, r[0]);
+    for (k, rk) in r.iter_mut().enumerate().skip(1) {
+        let (va, vb) =
+            unsafe { (_mm256_loadu_pd(c.as_ptr().add(4 * k)), _mm256_loadu_pd(older.as_ptr().add(4 * k - 1))) };
+        *rk = _mm256_fmadd_pd(va, vb, *rk);
+    }
+    let t = _mm256_add_pd(
+        _mm256_add_pd(_mm256_add_pd(r[0], r[4]), _mm256_add_pd(r[2], r[6])),
+        _mm256_add_pd(_mm256_add_pd(r[1], r[5]), _mm256_add_pd(r[3], r[7])),
+    );
+    let mut v = [0.0f64; 4];
+    // SAFETY: `v` holds four f64, the width of the store.
+    unsafe { _mm256_storeu_pd(v.as_mut_ptr(), t) };
+    (v[0] + v[2]) + (v[1] + v[3])
+}
+
 /// Samples per block of the precomputed tail sums (see the module documentation).
 pub const BLOCK: usize = 32;
 
@@ -197,6 +246,23 @@ mod tests {
             if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
                 assert_eq!(dot(&a, &b).to_bits(), dot_fma(&a, &b).to_bits(), "n = {n}: the AVX2 path is dot_fma");
             }
+        }
+    }
+
+    /// The head with the newest sample from a register is [`dot`] of the stored window, to the
+    /// bit (the AVX2 path against [`dot_fma`], the fallback against [`dot_portable`]).
+    #[test]
+    fn head_equals_the_window_dot_product() {
+        for shift in 0..5 {
+            let c: Vec<f64> = (0..BLOCK + shift).map(|j| (-0.7f64).powi(j as i32 % 3) / (1.0 + j as f64)).collect();
+            let b: Vec<f64> = (0..BLOCK + shift).map(|i| (0.37 * (i + shift) as f64).sin() * 1e-3).collect();
+            let got = dot_head(&c, b[0], &b[1..]);
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+                assert_eq!(got.to_bits(), dot_fma(&c[..BLOCK], &b[..BLOCK]).to_bits(), "shift {shift}");
+                continue;
+            }
+            assert_eq!(got.to_bits(), dot_portable(&c[..BLOCK], &b[..BLOCK]).to_bits(), "shift {shift}");
         }
     }
 
