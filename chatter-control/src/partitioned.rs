@@ -82,25 +82,21 @@ static TABLES: LazyLock<Tables> = LazyLock::new(|| {
 /// others with each stage's twiddles contiguous, so that the butterflies vectorise.
 #[inline(always)]
 fn fft(re: &mut [f64; M], im: &mut [f64; M], t: &Tables) {
-    for a in (0..M).step_by(2) {
-        let (xr, xi) = (re[a + 1], im[a + 1]);
-        re[a + 1] = re[a] - xr;
-        im[a + 1] = im[a] - xi;
+    // the butterfly of `a` and `b` with `x` the twiddled `b`: (a, b) ← (a + x, a − x)
+    #[inline(always)]
+    fn butterfly(re: &mut [f64; M], im: &mut [f64; M], a: usize, b: usize, (xr, xi): (f64, f64)) {
+        re[b] = re[a] - xr;
+        im[b] = im[a] - xi;
         re[a] += xr;
         im[a] += xi;
     }
+    for a in (0..M).step_by(2) {
+        butterfly(re, im, a, a + 1, (re[a + 1], im[a + 1]));
+    }
     for a in (0..M).step_by(4) {
-        let (xr, xi) = (re[a + 2], im[a + 2]);
-        re[a + 2] = re[a] - xr;
-        im[a + 2] = im[a] - xi;
-        re[a] += xr;
-        im[a] += xi;
+        butterfly(re, im, a, a + 2, (re[a + 2], im[a + 2]));
         // (re + i·im)·(−i) = im − i·re
-        let (xr, xi) = (im[a + 3], -re[a + 3]);
-        re[a + 3] = re[a + 1] - xr;
-        im[a + 3] = im[a + 1] - xi;
-        re[a + 1] += xr;
-        im[a + 1] += xi;
+        butterfly(re, im, a + 1, a + 3, (im[a + 3], -re[a + 3]));
     }
     let mut half = 4;
     while half < M {
