@@ -45,6 +45,8 @@ pub const BINS: usize = BLOCK + 1;
 /// Bins whose partition sums are kept in registers at once (two 4-wide registers per part).
 const LANES: usize = 8;
 const _: () = assert!(M.is_multiple_of(LANES));
+// the FFT's first two stages are written out and the twiddle table starts at the stage of 8
+const _: () = assert!(M.is_power_of_two() && M >= 8);
 
 /// Twiddle and permutation tables (the same for every operator).
 struct Tables {
