@@ -313,16 +313,37 @@ pub struct Header {
 pub struct Table<P, I, O> {
     /// Header.
     pub header: Header,
-    /// Rows.
-    pub vars: Variables<P, I, O>,
+    /// Rows (read through [`vars`](Self::vars): the per-step lists below are derived from them).
+    vars: Variables<P, I, O>,
     /// The declared work bound: (internal-step parameter, extra internal steps per call).
     work_bound: Option<(&'static str, f64)>,
+    /// The per-step path: the `f64` input and output rows as (value reference, field), in row
+    /// order and contiguous (a step touches one or two cache lines instead of every row), and the
+    /// indices of the other rows, which go through [`Value`]s.
+    real_inputs: Vec<(ValueReference, RealField<I>)>,
+    other_inputs: Vec<usize>,
+    real_outputs: Vec<(ValueReference, RealField<O>)>,
+    other_outputs: Vec<usize>,
+}
+
+/// The `f64` rows of `rows` as (value reference, field), and the indices of the others.
+fn split_real<S>(rows: &[Row<S>]) -> (Vec<(ValueReference, RealField<S>)>, Vec<usize>) {
+    let real = rows.iter().filter_map(|r| r.real.map(|f| (r.attrs.vr, f))).collect();
+    let other = rows.iter().enumerate().filter(|(_, r)| r.real.is_none()).map(|(i, _)| i).collect();
+    (real, other)
 }
 
 impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     /// A table.
     pub fn new(header: Header, vars: Variables<P, I, O>) -> Self {
-        Table { header, vars, work_bound: None }
+        let (real_inputs, other_inputs) = split_real(&vars.inputs);
+        let (real_outputs, other_outputs) = split_real(&vars.outputs);
+        Table { header, vars, work_bound: None, real_inputs, other_inputs, real_outputs, other_outputs }
+    }
+
+    /// The rows.
+    pub fn vars(&self) -> &Variables<P, I, O> {
+        &self.vars
     }
 
     /// Declare in `modelDescription.xml` what a step costs (a
@@ -394,22 +415,24 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     /// The input struct held by the store.
     pub fn read_inputs(&self, v: &Values) -> Result<I, String> {
         let mut i = I::default();
-        for r in &self.vars.inputs {
-            match r.real {
-                Some(f) => *(f.write)(&mut i) = v.real(r.attrs.vr),
-                None => r.set(&mut i, &v.get(r.ty.api_type(), r.attrs.vr))?,
-            }
+        for &(vr, f) in &self.real_inputs {
+            *(f.write)(&mut i) = v.real(vr);
+        }
+        for &k in &self.other_inputs {
+            let r = &self.vars.inputs[k];
+            r.set(&mut i, &v.get(r.ty.api_type(), r.attrs.vr))?;
         }
         Ok(i)
     }
 
     /// Write every output of `o` into the store.
     pub fn write_outputs(&self, o: &O, v: &mut Values) {
-        for r in &self.vars.outputs {
-            match r.real {
-                Some(f) => v.set_real(r.attrs.vr, *(f.read)(o)),
-                None => v.set(r.attrs.vr, &r.get(o)),
-            }
+        for &(vr, f) in &self.real_outputs {
+            v.set_real(vr, *(f.read)(o));
+        }
+        for &k in &self.other_outputs {
+            let r = &self.vars.outputs[k];
+            v.set(r.attrs.vr, &r.get(o));
         }
     }
 
@@ -563,6 +586,25 @@ mod tests {
 
     fn attrs(vr: ValueReference, name: &'static str) -> Attrs {
         Attrs { vr, name, unit: "", bounds: None, description: "", discrete: false }
+    }
+
+    /// The per-step lists: the `f64` field rows with their value references in row order, the
+    /// others (Boolean, computed) by index, every row in exactly one of them.
+    #[test]
+    fn per_step_lists_split_the_rows() {
+        let rows = [
+            Row::<S>::field(attrs(4, "a"), |s| &s.a, |s| &mut s.a),
+            Row::<S>::field(attrs(0, "flag"), |s| &s.flag, |s| &mut s.flag),
+            Row::<S>::computed(attrs(2, "twice_a"), |s| 2.0 * s.a, |s, x| s.a = x / 2.0),
+            Row::<S>::field(attrs(1, "b"), |s| &s.b, |s| &mut s.b),
+        ];
+        let (real, other) = split_real(&rows);
+        assert_eq!(real.iter().map(|(vr, _)| *vr).collect::<Vec<_>>(), [4, 1]);
+        assert_eq!(other, [1, 2]);
+        let mut s = S::default();
+        *(real[0].1.write)(&mut s) = 2.5;
+        *(real[1].1.write)(&mut s) = -1.0;
+        assert_eq!((s.a.to_bits(), s.b.to_bits()), (2.5f64.to_bits(), (-1.0f64).to_bits()), "the fields of a and b");
     }
 
     /// The per-step path of `f64` rows ([`RealField`], used by `read_inputs`/`write_outputs`)

@@ -56,7 +56,8 @@ fn apply<M: TableModel>(
 ) -> Result<(), String> {
     let (t, md) = (M::table(), M::description());
     let var = md.variable(name).ok_or_else(|| {
-        let names = t.vars.parameters.iter().map(|r| r.attrs.name).chain(t.vars.inputs.iter().map(|r| r.attrs.name));
+        let names =
+            t.vars().parameters.iter().map(|r| r.attrs.name).chain(t.vars().inputs.iter().map(|r| r.attrs.name));
         format!(
             "{} has no parameter or input {name:?}{}",
             t.header.model_name,
@@ -67,7 +68,7 @@ fn apply<M: TableModel>(
     if let Some(row) = t.parameter(name) {
         check_bounds(row, &value)?;
         row.set(&mut r.params, &value)
-    } else if let Some(row) = t.vars.inputs.iter().find(|row| row.attrs.name == name) {
+    } else if let Some(row) = t.vars().inputs.iter().find(|row| row.attrs.name == name) {
         check_bounds(row, &value)?;
         row.set(&mut r.inputs, &value)
     } else {

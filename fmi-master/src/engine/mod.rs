@@ -190,6 +190,8 @@ impl Simulation {
         let mut tracker = Tracker::new(progress, self.timing.n_steps);
         let (h, n_steps, every) = (self.timing.step, self.timing.n_steps, self.timing.sample_every);
         let seq = self.sequence.clone();
+        // the next sampled step, counted instead of `done % every` (an integer division per step)
+        let mut next_sample = every;
         for n in 0..n_steps {
             let t = self.timing.time(n);
             match self.order {
@@ -209,7 +211,8 @@ impl Simulation {
                 }
             }
             let done = n + 1;
-            if done.is_multiple_of(every) || done == n_steps {
+            if done == next_sample || done == n_steps {
+                next_sample = next_sample.saturating_add(every);
                 self.sample(self.timing.time(done), &mut row, obs)?;
             }
             tracker.update(done);
