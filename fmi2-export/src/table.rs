@@ -412,7 +412,8 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
         Ok(p)
     }
 
-    /// The input struct held by the store.
+    /// The input struct held by the store (the `f64` field rows first, then the others: input
+    /// rows write distinct fields, so the order does not matter).
     pub fn read_inputs(&self, v: &Values) -> Result<I, String> {
         let mut i = I::default();
         for &(vr, f) in &self.real_inputs {
