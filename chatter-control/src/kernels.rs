@@ -97,6 +97,16 @@ fn dot_fma_avx2(a: &[f64], b: &[f64]) -> f64 {
             *rk = _mm256_fmadd_pd(va, vb, *rk);
         }
     }
+    let tail: f64 = a[blocks * FMA_LANES..n].iter().zip(&b[blocks * FMA_LANES..n]).map(|(x, y)| x * y).sum();
+    reduce_lanes(r) + tail
+}
+
+/// The reduction of [`dot_fma`]'s eight 4-wide accumulators: `((r0+r4) + (r2+r6)) +
+/// ((r1+r5) + (r3+r7))`, then the lanes `(v0+v2) + (v1+v3)` (shared by the AVX2 paths).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn reduce_lanes(r: [std::arch::x86_64::__m256d; 8]) -> f64 {
+    use std::arch::x86_64::*;
     let t = _mm256_add_pd(
         _mm256_add_pd(_mm256_add_pd(r[0], r[4]), _mm256_add_pd(r[2], r[6])),
         _mm256_add_pd(_mm256_add_pd(r[1], r[5]), _mm256_add_pd(r[3], r[7])),
@@ -104,8 +114,7 @@ fn dot_fma_avx2(a: &[f64], b: &[f64]) -> f64 {
     let mut v = [0.0f64; 4];
     // SAFETY: `v` holds four f64, the width of the store.
     unsafe { _mm256_storeu_pd(v.as_mut_ptr(), t) };
-    let tail: f64 = a[blocks * FMA_LANES..n].iter().zip(&b[blocks * FMA_LANES..n]).map(|(x, y)| x * y).sum();
-    ((v[0] + v[2]) + (v[1] + v[3])) + tail
+    (v[0] + v[2]) + (v[1] + v[3])
 }
 
 /// The head of a GL sample: [`dot`]`(c, b)` of the first [`BLOCK`] taps with the newest
@@ -147,14 +156,7 @@ fn dot_head_avx2(c: &[f64], x: f64, older: &[f64]) -> f64 {
             unsafe { (_mm256_loadu_pd(c.as_ptr().add(4 * k)), _mm256_loadu_pd(older.as_ptr().add(4 * k - 1))) };
         *rk = _mm256_fmadd_pd(va, vb, *rk);
     }
-    let t = _mm256_add_pd(
-        _mm256_add_pd(_mm256_add_pd(r[0], r[4]), _mm256_add_pd(r[2], r[6])),
-        _mm256_add_pd(_mm256_add_pd(r[1], r[5]), _mm256_add_pd(r[3], r[7])),
-    );
-    let mut v = [0.0f64; 4];
-    // SAFETY: `v` holds four f64, the width of the store.
-    unsafe { _mm256_storeu_pd(v.as_mut_ptr(), t) };
-    (v[0] + v[2]) + (v[1] + v[3])
+    reduce_lanes(r)
 }
 
 /// Samples per block of the precomputed tail sums (see the module documentation).
