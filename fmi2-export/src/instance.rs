@@ -30,6 +30,19 @@ pub enum State {
     Fatal,
 }
 
+impl State {
+    /// Every state.
+    pub const ALL: [State; 7] = [
+        State::Instantiated,
+        State::InitializationMode,
+        State::StepComplete,
+        State::StepFailed,
+        State::Terminated,
+        State::Error,
+        State::Fatal,
+    ];
+}
+
 /// Bit masks of the states in which each call is allowed (the Reference FMUs' `MASK_*`).
 pub mod mask {
     use super::State;
@@ -145,21 +158,27 @@ impl Clock {
     pub fn now(&self) -> f64 {
         self.base + self.n as f64 * self.h
     }
-    /// The step the model takes for a requested `h`: the current step size when `h` equals it
-    /// within [`approx_eq`] (masters that count time in integers, such as libcosim's
-    /// nanoseconds, pass `t_{n+1} − t_n` in doubles, which wanders by an ulp from step to step),
-    /// so the model integrates exactly the steps the clock counts.
-    fn step_for(&self, h: f64) -> f64 {
-        if self.n > 0 && approx_eq(h, self.h) { self.h } else { h }
+    /// The step the model takes for a requested `h`, and whether it continues the current step
+    /// size: the current step size when `h` equals it within [`approx_eq`] (masters that count
+    /// time in integers, such as libcosim's nanoseconds, pass `t_{n+1} − t_n` in doubles, which
+    /// wanders by an ulp from step to step), so the model integrates exactly the steps the clock
+    /// counts.
+    fn step_for(&self, h: f64) -> (f64, bool) {
+        if self.n > 0 && approx_eq(h, self.h) { (self.h, true) } else { (h, false) }
     }
-    fn advance(&mut self, h: f64) {
-        if self.n > 0 && approx_eq(h, self.h) {
+    /// After a step of [`step_for`](Self::step_for)`(h)`.
+    fn advance_by(&mut self, (h, same): (f64, bool)) {
+        if same {
             self.n += 1;
         } else {
             self.base = self.now();
             self.h = h;
             self.n = 1;
         }
+    }
+    #[cfg(test)]
+    fn advance(&mut self, h: f64) {
+        self.advance_by(self.step_for(h));
     }
 }
 
@@ -224,10 +243,72 @@ impl VarIndex {
     }
 }
 
+/// What `fmi2SetReal` checks of one Real variable, derived once from the description by the
+/// rules of [`Instance::check_value`]: the states in which it may be set ([`settable_in`]) and
+/// its range (±∞ where it has none). The per-step set accepts a finite value in range in one of
+/// those states with a few comparisons; anything else goes to `check_value`, which says why.
+#[derive(Clone, Copy, Debug)]
+struct RealCheck {
+    states: u32,
+    lo: f64,
+    hi: f64,
+}
+
+impl RealCheck {
+    /// Undeclared value references: settable in no state.
+    const NONE: RealCheck = RealCheck { states: 0, lo: f64::NAN, hi: f64::NAN };
+
+    /// One entry per Real value reference (dense, like [`VarIndex`]).
+    fn table(md: &ModelDescription) -> Vec<RealCheck> {
+        let mut t = Vec::new();
+        for v in md.variables() {
+            let vr = v.value_reference as usize;
+            if v.scalar_type().api_type() != ScalarType::Real || vr > MAX_VALUE_REFERENCE as usize {
+                continue;
+            }
+            if t.len() <= vr {
+                t.resize(vr + 1, RealCheck::NONE);
+            }
+            let states = State::ALL.iter().filter(|&&s| settable_in(s, v)).fold(0, |m, &s| m | mask::bit(s));
+            let (lo, hi) = v.range();
+            t[vr] = RealCheck { states, lo: lo.unwrap_or(f64::NEG_INFINITY), hi: hi.unwrap_or(f64::INFINITY) };
+        }
+        t
+    }
+
+    /// Does `check_value` accept `x` in a state of bit `state`? (`false` may still be accepted
+    /// there: the caller then asks it.)
+    #[inline]
+    fn accepts(&self, state: u32, x: f64) -> bool {
+        self.states & state != 0 && x.is_finite() && x >= self.lo && x <= self.hi
+    }
+}
+
+/// May `v` be set in state `state`? (FMI 2.0.4, Table 4.2.4 / 2.2.7.)
+fn settable_in(state: State, v: &ScalarVariable) -> bool {
+    if v.variability == Variability::Constant {
+        return false;
+    }
+    let init = v.effective_initial();
+    match state {
+        State::Instantiated => {
+            v.causality == Causality::Input || matches!(init, Some(Initial::Exact | Initial::Approx))
+        }
+        State::InitializationMode => v.causality == Causality::Input || init == Some(Initial::Exact),
+        State::StepComplete => {
+            v.causality == Causality::Input
+                || (v.causality == Causality::Parameter && v.variability == Variability::Tunable)
+        }
+        _ => false,
+    }
+}
+
 /// One FMU instance.
 pub struct Instance<M: Fmi2Model> {
     md: &'static ModelDescription,
     index: VarIndex,
+    /// The per-step checks of `fmi2SetReal`, by value reference.
+    real_checks: Vec<RealCheck>,
     /// Current state.
     pub state: State,
     env: Environment,
@@ -268,6 +349,7 @@ impl<M: Fmi2Model> Instance<M> {
         Instance {
             md,
             index,
+            real_checks: RealCheck::table(md),
             state: State::Instantiated,
             env,
             values: Values::from_description(md),
@@ -461,9 +543,13 @@ impl<M: Fmi2Model> Instance<M> {
     /// [`set`](Self::set) of Real values without the [`Value`] buffer: `fmi2SetReal`. The same
     /// checks, all before any value is stored.
     pub fn set_reals(&mut self, call: &str, vrs: &[ValueReference], vals: &[f64]) -> CallResult<()> {
+        let state = mask::bit(self.state);
         for (&vr, &x) in vrs.iter().zip(vals) {
-            let v = self.lookup(call, ScalarType::Real, vr)?;
-            self.check_value(call, v, &Value::Real(x))?;
+            // the precomputed check; what it does not accept, `check_value` decides and explains
+            if !self.real_checks.get(vr as usize).is_some_and(|c| c.accepts(state, x)) {
+                let v = self.lookup(call, ScalarType::Real, vr)?;
+                self.check_value(call, v, &Value::Real(x))?;
+            }
         }
         for (&vr, &x) in vrs.iter().zip(vals) {
             self.values.set_real(vr, x);
@@ -474,28 +560,9 @@ impl<M: Fmi2Model> Instance<M> {
         Ok(())
     }
 
-    /// May `v` be set in the current state? (FMI 2.0.4, Table 4.2.4 / 2.2.7.)
-    fn settable(&self, v: &ScalarVariable) -> bool {
-        if v.variability == Variability::Constant {
-            return false;
-        }
-        let init = v.effective_initial();
-        match self.state {
-            State::Instantiated => {
-                v.causality == Causality::Input || matches!(init, Some(Initial::Exact | Initial::Approx))
-            }
-            State::InitializationMode => v.causality == Causality::Input || init == Some(Initial::Exact),
-            State::StepComplete => {
-                v.causality == Causality::Input
-                    || (v.causality == Causality::Parameter && v.variability == Variability::Tunable)
-            }
-            _ => false,
-        }
-    }
-
     /// Check a value against a variable's declaration.
     fn check_value(&self, call: &str, v: &ScalarVariable, x: &Value) -> CallResult<()> {
-        if !self.settable(v) {
+        if !settable_in(self.state, v) {
             return Err(CallError::error(format!(
                 "{call}: variable \"{}\" ({:?}, {:?}) cannot be set in state {:?}",
                 v.name, v.causality, v.variability, self.state
@@ -597,11 +664,11 @@ impl<M: Fmi2Model> Instance<M> {
                 h * MAX_INTERNAL_STEPS_PER_CALL / cost
             )));
         }
-        let h = self.clock.step_for(h);
+        let step = self.clock.step_for(h);
         let mut log = StepLog { sink: self.sink.as_mut(), info_on, warn_on };
-        match model.do_step(&mut self.values, now, h, &mut log) {
+        match model.do_step(&mut self.values, now, step.0, &mut log) {
             Ok(()) => {
-                self.clock.advance(h);
+                self.clock.advance_by(step);
                 Ok(())
             }
             Err(StepError::Discard(m)) => {

@@ -2,56 +2,85 @@
 
 use super::*;
 
-#[derive(Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 struct S {
     a: f64,
     b: f64,
+    c: f64,
     flag: bool,
+    n: i32,
+    inner: Inner,
 }
 
-fn attrs(vr: ValueReference, name: &'static str) -> Attrs {
-    Attrs { vr, name, unit: "", bounds: None, description: "", discrete: false }
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Inner {
+    m: [[f64; 2]; 2],
 }
 
-/// The per-step lists: the `f64` field rows with their value references in row order, the
-/// others (Boolean, computed) by index, every row in exactly one of them.
+fn table() -> Table<S, S, S> {
+    let vars = crate::variables! {
+        inputs S {
+            4 "a" [a] "" [] "";
+            0 "flag" [flag] "" [] "";
+            2 "twice_c" [get |s: &S| 2.0 * s.c, set |s: &mut S, x: f64| s.c = x / 2.0] "" [] "";
+            1 "b" [b] "" [] "";
+            3 "m01" [inner.m[0][1]] "" [] "";
+            5 "n" [n] "" [] "";
+        }
+        outputs S {
+            14 "a_out" [a] "" [] "";
+            10 "flag_out" [flag] "" [] "";
+            12 "twice_c_out" [get |s: &S| 2.0 * s.c, set |s: &mut S, x: f64| s.c = x / 2.0] "" [] "";
+            11 "b_out" [b] "" [] "";
+            13 "m10_out" [inner.m[1][0]] "" [] "";
+        }
+        parameters S {
+            20 "p" [a] "" [] "";
+        }
+    };
+    Table::new(Header { model_name: "T", identifier: "T", description: "", default_experiment: (0.0, 1.0, 0.1) }, vars)
+}
+
+/// Only the `f64` field rows are on the direct path; the others (Boolean, Integer, computed)
+/// are listed for the `Value` path, every row in exactly one of the two.
 #[test]
-fn per_step_lists_split_the_rows() {
-    let rows = [
-        Row::<S>::field(attrs(4, "a"), |s| &s.a, |s| &mut s.a),
-        Row::<S>::field(attrs(0, "flag"), |s| &s.flag, |s| &mut s.flag),
-        Row::<S>::computed(attrs(2, "twice_a"), |s| 2.0 * s.a, |s, x| s.a = x / 2.0),
-        Row::<S>::field(attrs(1, "b"), |s| &s.b, |s| &mut s.b),
-    ];
-    let (real, other) = split_real(&rows);
-    assert_eq!(real.iter().map(|(vr, _)| *vr).collect::<Vec<_>>(), [4, 1]);
-    assert_eq!(other, [1, 2]);
-    let mut s = S::default();
-    *(real[0].1.write)(&mut s) = 2.5;
-    *(real[1].1.write)(&mut s) = -1.0;
-    assert_eq!((s.a.to_bits(), s.b.to_bits()), (2.5f64.to_bits(), (-1.0f64).to_bits()), "the fields of a and b");
+fn direct_path_takes_exactly_the_f64_field_rows() {
+    let t = table();
+    let direct: Vec<&str> = t.vars.inputs.iter().filter(|r| r.direct).map(|r| r.attrs.name).collect();
+    assert_eq!(direct, ["a", "b", "m01"]);
+    assert_eq!(t.other_inputs, [1, 2, 5]);
+    assert_eq!(t.other_outputs, [1, 2]);
 }
 
-/// The per-step path of `f64` rows ([`RealField`], used by `read_inputs`/`write_outputs`)
-/// reads and writes the same field as the row's `get`/`set`; other types have none.
+/// The generated functions move the rows' own fields with the rows' value references: the
+/// result of `read_inputs`/`write_outputs` equals setting/getting each row through `Value`.
 #[test]
-fn real_fields_are_the_rows_fields() {
-    let rows = [
-        Row::<S>::field(attrs(0, "a"), |s| &s.a, |s| &mut s.a),
-        Row::<S>::field(attrs(1, "b"), |s| &s.b, |s| &mut s.b),
-        Row::<S>::field(attrs(0, "flag"), |s| &s.flag, |s| &mut s.flag),
-        Row::<S>::computed(attrs(2, "twice_a"), |s| 2.0 * s.a, |s, x| s.a = x / 2.0),
-    ];
-    assert!(rows[0].real.is_some() && rows[1].real.is_some());
-    assert!(rows[2].real.is_none() && rows[3].real.is_none(), "only plain f64 fields bypass Value");
-    for (k, r) in rows.iter().take(2).enumerate() {
-        let f = r.real.unwrap();
-        let mut s = S::default();
-        *(f.write)(&mut s) = 1.5 + k as f64;
-        assert_eq!(r.get(&s), Value::Real(1.5 + k as f64));
-        r.set(&mut s, &Value::Real(-3.0)).unwrap();
-        assert_eq!((f.read)(&s).to_bits(), (-3.0f64).to_bits());
-        let other = if k == 0 { s.b } else { s.a };
-        assert_eq!(other.to_bits(), 0.0f64.to_bits(), "row {k} wrote another field");
+fn direct_path_moves_what_the_rows_move() {
+    let t = table();
+    let md = t.model_description(&S::default()).unwrap();
+    let mut v = Values::from_description(&md);
+    for (vr, x) in [(4, 1.5), (2, 3.0), (1, -2.0), (3, 7.0)] {
+        v.set_real(vr, x);
     }
+    v.set_boolean(0, true);
+    v.set_integer(5, 9);
+    let fast = t.read_inputs(&v).unwrap();
+    let mut reference = S::default();
+    for r in &t.vars.inputs {
+        r.set(&mut reference, &v.get(r.ty.api_type(), r.attrs.vr)).unwrap();
+    }
+    assert_eq!(fast, reference);
+    let inner = Inner { m: [[0.0, 7.0], [0.0, 0.0]] };
+    assert_eq!(fast, S { a: 1.5, b: -2.0, c: 1.5, flag: true, n: 9, inner });
+
+    let o = S { a: 0.25, b: -4.0, c: 8.0, flag: true, n: 3, inner: Inner { m: [[1.0, 2.0], [3.0, 4.0]] } };
+    let mut fast = Values::from_description(&md);
+    t.write_outputs(&o, &mut fast);
+    let mut reference = Values::from_description(&md);
+    for r in &t.vars.outputs {
+        reference.set(r.attrs.vr, &r.get(&o));
+    }
+    assert_eq!(fast, reference);
+    let written: Vec<f64> = [14, 11, 12, 13].iter().map(|&vr| fast.real(vr)).collect();
+    assert_eq!(written, [0.25, -4.0, 16.0, 3.0]);
 }
