@@ -39,6 +39,7 @@ use crate::params::{CuttingModel, Integrator, Mode, PlantParams};
 use crate::teeth::ToothAngles;
 use exact_cell::{Fast, LastCut};
 use machine_structure::grid::next_sub_step;
+use model_kit::rem_two_pi;
 
 mod exact_cell;
 use serde::{Deserialize, Serialize};
@@ -534,7 +535,7 @@ impl Plant {
             disturbance_force: self.disturbance(t),
             chip_thickness: cut.chip,
             saturated,
-            tool_angle: self.theta.rem_euclid(2.0 * PI),
+            tool_angle: rem_two_pi(self.theta),
             delay,
         };
     }

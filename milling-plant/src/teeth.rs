@@ -6,6 +6,7 @@
 //! rotated by the pitch `2π/Z`. Rounding accumulates by about one ulp per rotation, so the
 //! recurrence restarts from `sin_cos` every [`REANCHOR`] cells (error below 10⁻¹⁴).
 
+use model_kit::rem_two_pi;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -53,7 +54,7 @@ impl ToothAngles {
     }
 
     fn exact(&mut self, theta: f64) -> Angle {
-        let base = theta.rem_euclid(2.0 * PI);
+        let base = rem_two_pi(theta);
         let (s, c) = base.sin_cos();
         (self.theta, self.base, self.s, self.c, self.rotations) = (theta, base, s, c, 0);
         Angle { base, s, c }

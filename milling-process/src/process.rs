@@ -31,6 +31,7 @@
 
 use crate::history::{History, MAX_SAMPLES, XySample};
 use crate::params::{ProcessParams, tool_force};
+use model_kit::rem_two_pi;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -213,7 +214,7 @@ impl Process {
 
     /// Force and chip at the current angle with the current displacement.
     fn evaluate(&self, inputs: &ProcessInputs, delay: f64) -> ProcessOutputs {
-        let mut out = ProcessOutputs { delay, tool_angle: self.theta.rem_euclid(2.0 * PI), ..Default::default() };
+        let mut out = ProcessOutputs { delay, tool_angle: rem_two_pi(self.theta), ..Default::default() };
         let omega = inputs.spindle_speed_rpm;
         if omega <= 0.0 || self.p.axial_depth == 0.0 {
             return out;
@@ -224,7 +225,7 @@ impl Process {
         let feed_per_rad = inputs.feed_per_tooth * z as f64 / (2.0 * PI);
         let k_max = if self.p.multiple_regeneration { z } else { 1 };
         for j in 0..z {
-            let phi = (self.theta + self.offsets[j]).rem_euclid(2.0 * PI);
+            let phi = rem_two_pi(self.theta + self.offsets[j]);
             if phi < st || phi > ex {
                 continue;
             }

@@ -6,7 +6,10 @@
 //! | item | what |
 //! |---|---|
 //! | [`Choice`], [`choice!`] | a parameter that takes one of a fixed list of named items (an FMI enumeration, a CLI keyword) |
+//! | [`rem_two_pi`] | `x.rem_euclid(2π)` bit for bit without the software `fmod` (tool angles every step) |
 
+pub mod angle;
 pub mod choice;
 
+pub use angle::rem_two_pi;
 pub use choice::{Choice, parse_choice};

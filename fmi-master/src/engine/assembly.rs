@@ -30,7 +30,6 @@ use ssp::{ConnectorKind, ConnectorType, Order, SystemDescription};
 /// An assembled, initialized system (inputs not yet consistent at t0).
 pub(crate) struct Assembled {
     pub comps: Components,
-    pub routes: Vec<Route>,
     pub order: Order,
     pub sequence: Vec<usize>,
     pub timing: Timing,
@@ -426,8 +425,8 @@ pub(crate) fn assemble(sys: &SystemFile, cfg: &RunConfig) -> Result<Assembled, S
         }
         comps.push(Component { name: names[i].clone(), inst, fmu, outputs, inputs, recorded, incoming: Vec::new() });
     }
-    for (k, r) in routes.iter().enumerate() {
-        comps[r.dst].incoming.push(k);
+    for r in &routes {
+        comps[r.dst].incoming.push(*r);
     }
     for c in comps.iter_mut() {
         c.inst.enter_initialization_mode()?;
@@ -435,7 +434,7 @@ pub(crate) fn assemble(sys: &SystemFile, cfg: &RunConfig) -> Result<Assembled, S
     for c in comps.iter_mut() {
         c.inst.exit_initialization_mode()?;
     }
-    Ok(Assembled { comps, routes, order, sequence, timing, probes, record_names })
+    Ok(Assembled { comps, order, sequence, timing, probes, record_names })
 }
 
 #[cfg(test)]

@@ -40,7 +40,7 @@ pub use config::RunConfig;
 use crate::error::{SetupError, SimError};
 use crate::progress::Tracker;
 use config::Timing;
-use ports::{Api, Components, Probe, Route, api_of};
+use ports::{Api, Components, Probe, api_of};
 use ssp::Order;
 use std::time::Duration;
 
@@ -56,7 +56,6 @@ pub struct RunStats {
 /// A system ready to run: FMUs loaded, connections checked, instances initialized.
 pub struct Simulation {
     comps: Components,
-    routes: Vec<Route>,
     sequence: Vec<usize>,
     order: Order,
     timing: Timing,
@@ -70,7 +69,6 @@ impl Simulation {
         let a = assembly::assemble(sys, cfg)?;
         let mut sim = Simulation {
             comps: a.comps,
-            routes: a.routes,
             sequence: a.sequence,
             order: a.order,
             timing: a.timing,
@@ -82,7 +80,7 @@ impl Simulation {
             sim.comps.read_outputs(i)?;
         }
         for i in 0..sim.comps.len() {
-            sim.comps.set_inputs(&sim.routes, i)?;
+            sim.comps.set_inputs(i)?;
         }
         Ok(sim)
     }
@@ -197,13 +195,12 @@ impl Simulation {
             match self.order {
                 Order::GaussSeidel => {
                     for &i in &seq {
-                        self.comps.set_inputs(&self.routes, i)?;
-                        self.comps.step(i, t, h)?;
+                        self.comps.advance(i, t, h)?;
                     }
                 }
                 Order::Jacobi => {
                     for i in 0..self.comps.len() {
-                        self.comps.set_inputs(&self.routes, i)?;
+                        self.comps.set_inputs(i)?;
                     }
                     for i in 0..self.comps.len() {
                         self.comps.step(i, t, h)?;

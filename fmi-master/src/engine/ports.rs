@@ -66,6 +66,12 @@ impl Ports {
         if !self.real_vrs.is_empty() {
             inst.get_real(&self.real_vrs, &mut self.real)?;
         }
+        self.read_other(inst)
+    }
+
+    /// Get the Integer and Boolean variables from the instance.
+    #[inline]
+    fn read_other(&mut self, inst: &mut Instance) -> Result<(), FmuError> {
         if !self.int_vrs.is_empty() {
             inst.get_integer(&self.int_vrs, &mut self.int)?;
         }
@@ -81,6 +87,12 @@ impl Ports {
         if !self.real_vrs.is_empty() {
             inst.set_real(&self.real_vrs, &self.real)?;
         }
+        self.write_other(inst)
+    }
+
+    /// Set the Integer and Boolean variables of the instance.
+    #[inline]
+    fn write_other(&self, inst: &mut Instance) -> Result<(), FmuError> {
         if !self.int_vrs.is_empty() {
             inst.set_integer(&self.int_vrs, &self.int)?;
         }
@@ -124,8 +136,8 @@ pub(crate) struct Component {
     pub outputs: Ports,
     pub inputs: Ports,
     pub recorded: Ports,
-    /// Routes ending here.
-    pub incoming: Vec<usize>,
+    /// Routes ending here (copies: the stepping loop reads them without the route list).
+    pub incoming: Vec<Route>,
 }
 
 /// The components, closing every instance before any library is unloaded
@@ -156,12 +168,20 @@ impl Drop for Components {
 impl Components {
     /// Copy the connected outputs into component `i`'s inputs and set them.
     #[inline]
-    pub(crate) fn set_inputs(&mut self, routes: &[Route], i: usize) -> Result<(), FmuError> {
+    pub(crate) fn set_inputs(&mut self, i: usize) -> Result<(), FmuError> {
         if self.0[i].incoming.is_empty() {
             return Ok(());
         }
+        self.copy_inputs(i);
+        let c = &mut self.0[i];
+        c.inputs.write(&mut c.inst)
+    }
+
+    /// Copy the connected outputs into component `i`'s input ports.
+    #[inline]
+    fn copy_inputs(&mut self, i: usize) {
         for k in 0..self.0[i].incoming.len() {
-            let r = routes[self.0[i].incoming[k]];
+            let r = self.0[i].incoming[k];
             let src = &self.0[r.src].outputs;
             match r.api {
                 Api::Real => {
@@ -181,8 +201,21 @@ impl Components {
                 }
             }
         }
+    }
+
+    /// One Gauss–Seidel step of component `i`: its inputs from the connected outputs,
+    /// `fmi2DoStep(t, h)`, its outputs read (the Real set, step and get as one
+    /// [`Instance::step_reals`]).
+    #[inline]
+    pub(crate) fn advance(&mut self, i: usize, t: f64, h: f64) -> Result<(), FmuError> {
+        self.copy_inputs(i);
         let c = &mut self.0[i];
-        c.inputs.write(&mut c.inst)
+        if !c.incoming.is_empty() {
+            c.inputs.write_other(&mut c.inst)?;
+        }
+        let ins = (c.inputs.real_vrs.as_slice(), c.inputs.real.as_slice());
+        c.inst.step_reals(ins, t, h, (&c.outputs.real_vrs, &mut c.outputs.real))?;
+        c.outputs.read_other(&mut c.inst)
     }
 
     /// Read component `i`'s connected outputs.

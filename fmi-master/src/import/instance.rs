@@ -167,6 +167,42 @@ impl Instance {
         Ok(())
     }
 
+    /// One step of the stepping loop for one component: `fmi2SetReal(ins)` (skipped when
+    /// empty), `fmi2DoStep(t, h)`, `fmi2GetReal(outs)` (skipped when empty), with the phase and
+    /// the slice lengths checked once for the three calls; the first status other than
+    /// `fmi2OK` stops the sequence and is reported as [`set_real`](Self::set_real),
+    /// [`do_step`](Self::do_step) or [`get_real`](Self::get_real) report it.
+    #[inline]
+    pub fn step_reals(
+        &mut self,
+        (in_vrs, ins): (&[u32], &[f64]),
+        t: f64,
+        h: f64,
+        (out_vrs, outs): (&[u32], &mut [f64]),
+    ) -> Result<(), FmuError> {
+        if self.phase != Phase::Stepping || in_vrs.len() != ins.len() || out_vrs.len() != outs.len() {
+            if !in_vrs.is_empty() {
+                self.set_real(in_vrs, ins)?;
+            }
+            self.do_step(t, h)?;
+            return if out_vrs.is_empty() { Ok(()) } else { self.get_real(out_vrs, outs) };
+        }
+        if !in_vrs.is_empty() {
+            let s = self.raw.set_real(in_vrs, ins);
+            if s != fmi2OK {
+                self.check("fmi2SetReal", s, self.time)?;
+            }
+        }
+        self.do_step(t, h)?;
+        if !out_vrs.is_empty() {
+            let s = self.raw.get_real(out_vrs, outs);
+            if s != fmi2OK {
+                self.check("fmi2GetReal", s, self.time)?;
+            }
+        }
+        Ok(())
+    }
+
     /// `fmi2Terminate`.
     pub fn terminate(&mut self) -> Result<(), FmuError> {
         self.require("fmi2Terminate", &[Phase::Initialization, Phase::Stepping])?;

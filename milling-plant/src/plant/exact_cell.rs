@@ -31,6 +31,18 @@ pub(super) struct LastCut {
     pub(super) cut: Cut,
 }
 
+impl LastCut {
+    /// The remembered cut if it was evaluated at exactly these arguments. Compared one argument
+    /// at a time from the registers: building the key on the stack and comparing it as a block
+    /// made the loads wait on the narrower stores that wrote it (no store forwarding, `perf`).
+    #[inline]
+    fn at(&self, theta: f64, x: f64, fz: f64, omega: f64) -> Option<Cut> {
+        let k = &self.key;
+        let same = k[0] == theta.to_bits() && k[1] == x.to_bits() && k[2] == fz.to_bits() && k[3] == omega.to_bits();
+        same.then_some(self.cut)
+    }
+}
+
 impl Plant {
     /// One cell of the exact scheme ([`crate::exact`]): predictor with the force at the cell's
     /// start, corrector with the force at its end evaluated on the predicted state.
@@ -71,9 +83,8 @@ impl Plant {
             return Cut::default();
         }
         let fz = inputs.feed_per_tooth;
-        let key = [theta.to_bits(), x.to_bits(), fz.to_bits(), omega.to_bits()];
-        if let Some(last) = self.last_cut.filter(|l| l.key == key) {
-            return last.cut;
+        if let Some(cut) = self.last_cut.as_ref().and_then(|l| l.at(theta, x, fz, omega)) {
+            return cut;
         }
         let (model, apkt) = (c.model, c.axial_depth * c.kt);
         let dx = x - self.delayed(theta - geo.pitch).map_or(0.0, |(_, xp)| xp);
