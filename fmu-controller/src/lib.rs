@@ -150,9 +150,11 @@ impl Fmi2Model for ChatterController {
         // them all; a clock that jumped ahead of the sample index (a restored or restarted
         // instance) continues from the first sample at or after `t`. The margin of one sample
         // leaves every ordinary step untouched by rounding.
-        let first_due = ((t - base) / self.ts - 1e-6).ceil().max(0.0) as u64;
-        if first_due > self.k_next + 1 {
-            self.k_next = first_due;
+        // (`⌈q⌉ > k + 1` exactly when `q > k + 1`: the ceiling, a library call on baseline
+        // x86-64, is taken only when the clock did jump)
+        let due = (t - base) / self.ts - 1e-6;
+        if due > (self.k_next + 1) as f64 {
+            self.k_next = due.ceil() as u64;
         }
         let end = t + h - 1e-6 * self.ts;
         while base + self.k_next as f64 * self.ts < end {

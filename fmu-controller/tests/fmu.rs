@@ -198,6 +198,31 @@ fn long_steps_hold_the_input() {
     assert!((v.real(vr("u")) - u).abs() < 1e-12);
 }
 
+/// A clock that jumps ahead of the sample index (a restored or restarted instance) continues
+/// from the first sample at or after the new time and does not catch up on the skipped ones:
+/// steps at 0 and 5 Ts take two samples, as steps at 0 and Ts do; a step just after the jump
+/// target (rounding) still starts there.
+#[test]
+fn a_jump_in_time_is_not_caught_up() {
+    let run = |t1: f64| {
+        let mut v = values(Structure::Pid, FractionalMethod::GrunwaldLetnikov);
+        let mut m = ChatterController::initialize(&v, &Environment::default()).unwrap();
+        let ts = m.params().ts;
+        v.set_real(vr("y"), 1e-6);
+        m.do_step(&mut v, 0.0, ts, &mut NoLog).unwrap();
+        m.do_step(&mut v, t1 * ts, ts, &mut NoLog).unwrap();
+        v.real(vr("u"))
+    };
+    let v = values(Structure::Pid, FractionalMethod::GrunwaldLetnikov);
+    let mut c = Controller::new(ChatterController::initialize(&v, &Environment::default()).unwrap().params()).unwrap();
+    let two = (0..2).map(|_| c.sample(1e-6, 0.0).u).last().unwrap();
+    let five = (0..3).map(|_| c.sample(1e-6, 0.0).u).last().unwrap();
+    assert_ne!(two.to_bits(), five.to_bits(), "the PID command must tell two samples from five");
+    for t1 in [1.0, 5.0, 5.0 + 1e-9, 37.0] {
+        assert_eq!(run(t1).to_bits(), two.to_bits(), "jump to {t1} Ts");
+    }
+}
+
 /// The whole state round-trips through serde (FMU state) and continues identically.
 #[test]
 fn fmu_state_round_trip() {
