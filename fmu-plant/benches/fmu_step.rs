@@ -112,6 +112,10 @@ fn main() {
         }
         let layer = fmu - core;
         let layer = if layer > 0.0 { format!("{layer:.1}") } else { format!("{layer:.1} (within resolution)") };
-        println!("| {modes} | {core:.1} | {fmu:.1} | {layer} | {:.2} | {generic:.1} | {:.1} |", fmu / core, generic - fmu);
+        println!(
+            "| {modes} | {core:.1} | {fmu:.1} | {layer} | {:.2} | {generic:.1} | {:.1} |",
+            fmu / core,
+            generic - fmu
+        );
     }
 }
