@@ -48,7 +48,7 @@ macro_rules! variables {
     };
 }
 
-/// The statements of a [`Direct`](crate::table::Direct) function: one per field row (`f64` fields move, the others
+/// The statements of a [`Direct`](crate::table::Direct) function: one per field row (`f64` and `bool` fields move, the others
 /// compile to nothing), enumeration and computed rows none.
 #[doc(hidden)]
 #[macro_export]

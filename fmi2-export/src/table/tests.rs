@@ -41,15 +41,15 @@ fn table() -> Table<S, S, S> {
     Table::new(Header { model_name: "T", identifier: "T", description: "", default_experiment: (0.0, 1.0, 0.1) }, vars)
 }
 
-/// Only the `f64` field rows are on the direct path; the others (Boolean, Integer, computed)
-/// are listed for the `Value` path, every row in exactly one of the two.
+/// Only the `f64` and `bool` field rows are on the direct path; the others (Integer,
+/// computed) are listed for the `Value` path, every row in exactly one of the two.
 #[test]
-fn direct_path_takes_exactly_the_f64_field_rows() {
+fn direct_path_takes_exactly_the_f64_and_bool_field_rows() {
     let t = table();
     let direct: Vec<&str> = t.vars.inputs.iter().filter(|r| r.direct).map(|r| r.attrs.name).collect();
-    assert_eq!(direct, ["a", "b", "m01"]);
-    assert_eq!(t.other_inputs, [1, 2, 5]);
-    assert_eq!(t.other_outputs, [1, 2]);
+    assert_eq!(direct, ["a", "flag", "b", "m01"]);
+    assert_eq!(t.other_inputs, [2, 5]);
+    assert_eq!(t.other_outputs, [2]);
 }
 
 /// The generated functions move the rows' own fields with the rows' value references: the
