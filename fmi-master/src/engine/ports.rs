@@ -210,9 +210,7 @@ impl Components {
     pub(crate) fn advance(&mut self, i: usize, t: f64, h: f64) -> Result<(), FmuError> {
         self.copy_inputs(i);
         let c = &mut self.0[i];
-        if !c.incoming.is_empty() {
-            c.inputs.write_other(&mut c.inst)?;
-        }
+        c.inputs.write_other(&mut c.inst)?;
         let ins = (c.inputs.real_vrs.as_slice(), c.inputs.real.as_slice());
         c.inst.step_reals(ins, t, h, (&c.outputs.real_vrs, &mut c.outputs.real))?;
         c.outputs.read_other(&mut c.inst)
