@@ -13,7 +13,7 @@
 //!   new outcome class are kept in the corpus.
 //!
 //! The bounded campaign runs in `cargo test` (`tests/campaign.rs`); long
-//! runs: `cargo run --release -p fuzz-targets -- --minutes 10`. Findings
+//! runs: `cargo run --release -p fuzz -- --minutes 10`. Findings
 //! are written to `fuzz/regressions/<target>-<hash>.bin` and replayed by
 //! `tests/regressions.rs`.
 

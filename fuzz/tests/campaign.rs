@@ -1,10 +1,10 @@
 //! The bounded fuzzing campaign of CI: every target, a fixed seed, a fixed
 //! number of inputs (and a wall-time cap), each input under a time limit.
 //! A panic or a hang fails the test and prints the input; keep it with
-//! `cargo run --release -p fuzz-targets -- --target NAME --seed N` (which
+//! `cargo run --release -p fuzz -- --target NAME --seed N` (which
 //! writes `fuzz/regressions/`).
 
-use fuzz_targets::{Campaign, Target, targets};
+use fuzz::{Campaign, Target, targets};
 use std::time::Duration;
 
 fn campaign(target: Target, inputs: u64) {

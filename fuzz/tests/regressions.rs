@@ -5,7 +5,7 @@ use fmi2_export::Fmi2Model;
 use fmi2_export::instance::Snapshot;
 use fmu_controller::ChatterController;
 use fmu_plant::MillingPlant;
-use fuzz_targets::{Executor, Outcome, TimedOut, targets};
+use fuzz::{Executor, Outcome, TimedOut, targets};
 use std::time::Duration;
 
 fn kept() -> Vec<(String, Vec<u8>)> {

@@ -122,11 +122,14 @@ pub fn spindle_bindings() -> Result<Vec<(&'static str, Vec<ssp::Parameter>)>> {
     p.coefficients.exponent = 1.0;
     p.coefficients.kt = 462e6;
     p.coefficients.kr = 38.6e6;
-    let md = fmu_process::MillingProcess::description();
-    let mut process =
-        changed(md, fmu_process::parameter_assignments(&p), fmu_process::parameter_assignments(&Default::default()))?;
+    let md = fmu_milling_process::MillingProcess::description();
+    let mut process = changed(
+        md,
+        fmu_milling_process::parameter_assignments(&p),
+        fmu_milling_process::parameter_assignments(&Default::default()),
+    )?;
     let inputs = ProcessInputs { spindle_speed_rpm: 37_000.0, feed_per_tooth: 0.2e-3, ..Default::default() };
-    let t = &fmu_process::TABLE;
+    let t = &fmu_milling_process::TABLE;
     process.extend(changed(md, t.input_assignments(&inputs), t.input_assignments(&Default::default()))?);
     let (k1, k2) = (697.1599e3, -1071.058e3);
     let c = linear_control::LinearControlParams { dc: [[k1, -k2], [k2, k1]], ..Default::default() };
@@ -245,7 +248,7 @@ mod tests {
         assert_eq!(d.connections.len(), 6, "x, y, vx, vy to the controller; u_x, u_y to the plant");
         let plant = d.components.iter().find(|c| c.name == "plant").unwrap();
         assert_eq!(plant.parameters.len(), 2, "the calibrated forcing amplitudes");
-        let ts = start_parameters::<fmu_sliding_fuzzy::SlidingModeFuzzyController>().sample_period;
+        let ts = start_parameters::<fmu_sliding_mode_fuzzy_controller::SlidingModeFuzzyController>().sample_period;
         assert!((ts / d.master.step_size.unwrap() - 1.0).abs() < 1e-12);
     }
 
@@ -257,7 +260,7 @@ mod tests {
         assert_eq!(d.to_xml().unwrap(), super::AFRAC_SSD, "Afrac.ssd is not canonical");
         assert_eq!(d.components.len(), 2);
         assert_eq!(d.connections.len(), 4, "x, v to the controller; spindle_speed, feed to the plant");
-        let ts = start_parameters::<fmu_afrac::AfracController>().sample_period;
+        let ts = start_parameters::<fmu_afrac_controller::AfracController>().sample_period;
         assert!((ts / d.master.step_size.unwrap() - 1.0).abs() < 1e-12);
     }
 
@@ -269,7 +272,7 @@ mod tests {
         assert_eq!(d.to_xml().unwrap(), super::FORCE_CONTROL_SSD, "ForceControl.ssd is not canonical");
         assert_eq!(d.components.len(), 2);
         assert_eq!(d.connections.len(), 3, "force feedback, command mean and command slope");
-        let ts = start_parameters::<fmu_froh_mrac::FrohMracController>().sample_period;
+        let ts = start_parameters::<fmu_froh_mrac_controller::FrohMracController>().sample_period;
         let m = ts / d.master.step_size.unwrap();
         assert!((m - m.round()).abs() < 1e-9 && m.round() >= 1.0, "Ts/h = {m}");
     }

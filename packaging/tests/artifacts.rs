@@ -109,7 +109,7 @@ fn generated_header(header: &Path) -> String {
     };
     cbindgen::Builder::new()
         .with_config(config)
-        .with_src(workspace_root().join("fmi2-export/src/exports.rs"))
+        .with_src(workspace_root().join("fmi/fmi2-export/src/exports.rs"))
         .generate()
         .expect("cbindgen")
         .write_to_file(header);

@@ -3,8 +3,8 @@
 //! `chatter afrac --fmu` runs each case of [`crate::afrac::AfracStudy::cases`] through the
 //! packaged FMUs instead of the cores: a controlled case as `Afrac.ssd` (TurningProcess +
 //! AfracController, Gauss–Seidel controller → plant, step = the sample period) with every
-//! parameter of the case bound by name (`fmu_turning::parameter_assignments`,
-//! `fmu_afrac::parameter_assignments`), an open-loop case as `TurningProcess.fmu` alone.
+//! parameter of the case bound by name (`fmu_turning_process::parameter_assignments`,
+//! `fmu_afrac_controller::parameter_assignments`), an open-loop case as `TurningProcess.fmu` alone.
 //!
 //! **Alignment with the core trace.** [`crate::afrac::run`] records at `t_k` the plant's state
 //! and the command computed from it at `t_k`; the master records at `t_k` before the
@@ -25,7 +25,7 @@ fn column(r: &Recorder, name: &str) -> Result<Vec<f64>, StudyError> {
 
 /// Run one case through the FMUs of `fmu_dir` (`packaging::fmu_dir()` for the packaged ones).
 pub fn run_fmu(case: &Case, fmu_dir: &Path) -> Result<Vec<Point>, StudyError> {
-    let plant_sets = fmu_turning::parameter_assignments(&case.plant);
+    let plant_sets = fmu_turning_process::parameter_assignments(&case.plant);
     match &case.controller {
         None => {
             let tau = 1e-4;
@@ -65,7 +65,7 @@ pub fn run_fmu(case: &Case, fmu_dir: &Path) -> Result<Vec<Point>, StudyError> {
             let mut overrides: Vec<Override> =
                 plant_sets.into_iter().map(|(name, v)| Override::typed(format!("plant.{name}"), v)).collect();
             overrides.extend(
-                fmu_afrac::parameter_assignments(c)
+                fmu_afrac_controller::parameter_assignments(c)
                     .into_iter()
                     .map(|(name, v)| Override::typed(format!("controller.{name}"), v)),
             );

@@ -5,8 +5,8 @@
 //!
 //! * the **zero locus**: the largest zero of the FROH model of the plant
 //!   `K_p/((τ_s s + 1)(τ_c s + 1))` at 2 mm against β, and the β at which it leaves the unit
-//!   circle (bisection, [`force_control::froh::nmp_boundary`]);
-//! * the **J(β) sweep** of Section V: the adaptive loop ([`force_control::simulate`], plant and
+//!   circle (bisection, [`milling_force_plant::froh::nmp_boundary`]);
+//! * the **J(β) sweep** of Section V: the adaptive loop ([`froh_mrac::simulate`], plant and
 //!   controller cores, communication step `T/M`) with `F_ref` = 1.2 kN on the depth profile, and
 //!   `J = ∫|F_p − F_m| dt` over the first 30 spindle periods (2.52 s, before the first depth
 //!   step) by the trapezoidal rule on the communication grid, `F_m` the continuous reference
@@ -16,8 +16,9 @@
 //! The controller's initial model is the reading `K̂ = 0.5 K_p(2 mm)`, `τ̂ = 1.5 τ_c` (with the
 //! τ_c of the reading; both factors are options), λ = 0.98, P₀ = 100 I.
 
-use force_control::froh::{self, DiscreteTf};
-use force_control::{ForceControlError, ForcePlantParams, LoopSample, MracParams, simulate};
+use froh_mrac::{ForceError, LoopSample, MracParams, simulate};
+use milling_force_plant::ForcePlantParams;
+use milling_force_plant::froh::{self, DiscreteTf};
 
 /// The chip-lag readings: (name, τ_c) for the default plant.
 pub fn tau_c_readings() -> Vec<(&'static str, f64)> {
@@ -153,7 +154,7 @@ pub fn sampled_cost(run: &[LoopSample], substeps: u32, t: f64, t0: f64, len: f64
 }
 
 /// The zero locus of the plant (at 2 mm) for one τ_c.
-pub fn zero_locus(reading: &'static str, tau_c: f64, betas: &[f64]) -> Result<Vec<ZeroPoint>, ForceControlError> {
+pub fn zero_locus(reading: &'static str, tau_c: f64, betas: &[f64]) -> Result<Vec<ZeroPoint>, ForceError> {
     let p = ForcePlantParams { tau_c, ..Default::default() };
     let sys = p.model(2.0);
     betas
@@ -166,12 +167,7 @@ pub fn zero_locus(reading: &'static str, tau_c: f64, betas: &[f64]) -> Result<Ve
 }
 
 /// One adaptive run of the sweep.
-pub fn sweep_point(
-    o: &FrohStudy,
-    reading: &'static str,
-    tau_c: f64,
-    beta: f64,
-) -> Result<SweepPoint, ForceControlError> {
+pub fn sweep_point(o: &FrohStudy, reading: &'static str, tau_c: f64, beta: f64) -> Result<SweepPoint, ForceError> {
     let plant = ForcePlantParams { tau_c, ..Default::default() };
     let ctrl = MracParams {
         beta,
@@ -217,19 +213,19 @@ pub fn sweep(
     o: &FrohStudy,
     reading: &'static str,
     tau_c: f64,
-) -> Result<(Vec<SweepPoint>, ReadingSummary), ForceControlError> {
+) -> Result<(Vec<SweepPoint>, ReadingSummary), ForceError> {
     // β where the initial model's zero is already unstable cannot start (the paper leaves
     // these out): skipped, not in the results
     let mut pts = Vec::new();
     for &b in &o.betas {
         match sweep_point(o, reading, tau_c, b) {
             Ok(p) => pts.push(p),
-            Err(ForceControlError::Design(_)) => {}
+            Err(ForceError::Design(_)) => {}
             Err(e) => return Err(e),
         }
     }
     if pts.is_empty() {
-        return Err(ForceControlError::Design(format!("no β of the grid can start for τ_c = {tau_c}")));
+        return Err(ForceError::Design(format!("no β of the grid can start for τ_c = {tau_c}")));
     }
     let p = ForcePlantParams { tau_c, ..Default::default() };
     let nmp_boundary = froh::nmp_boundary(&p.model(2.0), p.spindle_period(), -1.0, 0.0)?;

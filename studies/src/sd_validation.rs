@@ -116,7 +116,7 @@ impl<'a> SdFmuCheck<'a> {
             Target::Decomposed { process } => {
                 let mut p = process.clone();
                 p.axial_depth = depth;
-                let mut o = overrides_of("process", fmu_process::parameter_assignments(&p));
+                let mut o = overrides_of("process", fmu_milling_process::parameter_assignments(&p));
                 o.push(Override::typed("process.spindle_speed", Value::Real(rpm)));
                 o.push(Override::typed("process.feed_per_tooth", Value::Real(self.feed)));
                 for flag in ["structure.disturbance.noise", "structure.disturbance.drift"] {

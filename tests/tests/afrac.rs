@@ -8,9 +8,9 @@
 //!   and Table 2's 5 mm grows while 2 mm decays.
 
 use afrac_control::AfracParams;
-use e2e_tests::{Short, packaged, run_short};
 use fmi_master::SystemFile;
 use studies::afrac::{Case, run};
+use tests::{Short, packaged, run_short};
 use turning_process::{TurningParams, stability_limit};
 
 const REC: &[&str] = &[

@@ -1,8 +1,10 @@
 //! The workspace's shape, as tests (see `ARCHITECTURE.md`).
 //!
-//! * Every member belongs to one layer of `[workspace.metadata.layers]` in the root
-//!   `Cargo.toml`, and depends only on the layers [`ALLOWED`] lists for it: the physics and
-//!   control cores know nothing of FMI, the generic master nothing of the models.
+//! * Every member belongs to exactly one layer of `[workspace.metadata.layers]` in the root
+//!   `Cargo.toml` by its folder (`cores/*`, `fmi/fmi2-export`, `fmu-*`, ...), is named as its
+//!   folder, and depends only on the layers [`ALLOWED`] lists for it: the physics and control
+//!   cores know nothing of FMI, the generic master nothing of the models. Adapter folders are
+//!   named for their FMU (`fmu-<modelIdentifier in kebab case>`).
 //! * No crate has a cycle among its modules (`use crate::a` in `b` and `use crate::b` in `a`).
 //! * No source file is longer than [`MAX_LINES`] unless [`LONG_FILES`] says why.
 
@@ -35,10 +37,10 @@ const MAX_LINES: usize = 600;
 /// Files allowed to be longer, with the reason (one algorithm, or a table).
 const LONG_FILES: &[(&str, &str)] = &[
     (
-        "fmi2-export/src/ffi.rs",
+        "fmi/fmi2-export/src/ffi.rs",
         "the C boundary: every unsafe block of the export side, one `with` pattern per fmi2 function",
     ),
-    ("fmi2-export/src/instance.rs", "one algorithm: the FMI 2.0 state machine and its variable rules"),
+    ("fmi/fmi2-export/src/instance.rs", "one algorithm: the FMI 2.0 state machine and its variable rules"),
     ("studies/src/lobes.rs", "one algorithm: the exact zero-order lobe solver with its tests"),
 ];
 
@@ -46,11 +48,22 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
 }
 
+/// Adapter folders that keep the design card's names instead of `fmu-<modelIdentifier>`.
+const DESIGN_CARD_ADAPTERS: &[(&str, &str)] = &[("fmu-plant", "MillingPlant"), ("fmu-controller", "ChatterController")];
+
+/// Members whose package name is not their folder's, with the reason.
+const NAME_EXCEPTIONS: &[(&str, &str, &str)] =
+    &[("modelDescription", "model-description", "the design card's folder name; Rust crate names are snake_case")];
+
+#[derive(Clone, Debug)]
 struct Member {
     name: String,
-    dir: PathBuf,
+    /// Folder relative to the workspace root, `/`-separated (`cores/milling-plant`).
+    path: String,
     /// (dependency name, kind: "normal" | "dev" | "build")
     deps: Vec<(String, String)>,
+    /// The `[lib] name` (for a cdylib: the FMU's modelIdentifier).
+    lib: Option<String>,
 }
 
 fn members() -> Vec<Member> {
@@ -61,26 +74,39 @@ fn members() -> Vec<Member> {
         .expect("cargo metadata");
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let root = root().canonicalize().unwrap();
     v["packages"]
         .as_array()
         .unwrap()
         .iter()
-        .map(|p| Member {
-            name: p["name"].as_str().unwrap().to_string(),
-            dir: PathBuf::from(p["manifest_path"].as_str().unwrap()).parent().unwrap().to_path_buf(),
-            deps: p["dependencies"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|d| (d["name"].as_str().unwrap().to_string(), d["kind"].as_str().unwrap_or("normal").to_string()))
-                .collect(),
+        .map(|p| {
+            let dir = PathBuf::from(p["manifest_path"].as_str().unwrap()).parent().unwrap().canonicalize().unwrap();
+            Member {
+                name: p["name"].as_str().unwrap().to_string(),
+                path: dir.strip_prefix(&root).unwrap().to_string_lossy().replace('\\', "/"),
+                deps: p["dependencies"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|d| {
+                        (d["name"].as_str().unwrap().to_string(), d["kind"].as_str().unwrap_or("normal").to_string())
+                    })
+                    .collect(),
+                lib: p["targets"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .find(|t| t["kind"].as_array().unwrap().iter().any(|k| k == "lib" || k == "cdylib"))
+                    .map(|t| t["name"].as_str().unwrap().to_string()),
+            }
         })
         .collect()
 }
 
-fn layers() -> BTreeMap<String, String> {
+/// `[workspace.metadata.layers]` of the root `Cargo.toml`: (folder pattern, layer) in file order.
+fn layer_patterns() -> Vec<(String, String)> {
     let text = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
-    let mut map = BTreeMap::new();
+    let mut out = Vec::new();
     let mut inside = false;
     for line in text.lines() {
         let line = line.trim();
@@ -91,34 +117,96 @@ fn layers() -> BTreeMap<String, String> {
         if !inside || line.is_empty() || line.starts_with('#') {
             continue;
         }
-        let (layer, list) = line.split_once('=').expect("layer = [\"crate\", ...]");
-        for name in list.trim().trim_start_matches('[').trim_end_matches(']').split(',') {
-            let name = name.trim().trim_matches('"');
-            if !name.is_empty() {
-                assert!(map.insert(name.to_string(), layer.trim().to_string()).is_none(), "{name} is in two layers");
+        let (layer, list) = line.split_once('=').expect("layer = [\"folder pattern\", ...]");
+        for pat in list.trim().trim_start_matches('[').trim_end_matches(']').split(',') {
+            let pat = pat.trim().trim_matches('"');
+            if !pat.is_empty() {
+                out.push((pat.to_string(), layer.trim().to_string()));
             }
         }
     }
-    map
+    out
 }
 
-#[test]
-fn every_crate_depends_only_on_the_layers_below_it() {
-    let layers = layers();
-    let members = members();
-    let names: BTreeSet<&str> = members.iter().map(|m| m.name.as_str()).collect();
+/// Does the folder `path` match `pattern`? `*` stands for one path component or the rest of
+/// one (`fmu-*` matches `fmu-plant`, `fmu-*/cdylib` matches `fmu-plant/cdylib`).
+fn matches(pattern: &str, path: &str) -> bool {
+    let (pp, fp): (Vec<&str>, Vec<&str>) = (pattern.split('/').collect(), path.split('/').collect());
+    pp.len() == fp.len()
+        && pp.iter().zip(&fp).all(|(p, f)| match p.split_once('*') {
+            Some((pre, post)) => f.len() > pre.len() + post.len() && f.starts_with(pre) && f.ends_with(post),
+            None => p == f,
+        })
+}
+
+/// The layer of a folder: the plain path that names it, else the one pattern with a `*` that
+/// matches it; `Err` if none or two match.
+fn layer_of(path: &str, patterns: &[(String, String)]) -> Result<String, String> {
+    let hits: Vec<&(String, String)> = patterns.iter().filter(|(p, _)| matches(p, path)).collect();
+    let exact: Vec<_> = hits.iter().filter(|(p, _)| !p.contains('*')).collect();
+    let globs: Vec<_> = hits.iter().filter(|(p, _)| p.contains('*')).collect();
+    match (exact.as_slice(), globs.as_slice()) {
+        ([(_, l)], _) => Ok(l.clone()),
+        ([], [(_, l)]) => Ok(l.clone()),
+        ([], []) => Err(format!("{path} matches no folder pattern of [workspace.metadata.layers]")),
+        _ => Err(format!("{path} matches several folder patterns: {hits:?}")),
+    }
+}
+
+/// `MillingProcess` → `milling-process`.
+fn kebab(identifier: &str) -> String {
+    let mut s = String::new();
+    for (i, c) in identifier.chars().enumerate() {
+        if c.is_uppercase() && i > 0 {
+            s.push('-');
+        }
+        s.extend(c.to_lowercase());
+    }
+    s
+}
+
+/// Every problem of the layout and the layer rules: a member in no layer or in two, a package
+/// not named as its folder, an adapter folder not named for its FMU, a dependency on a layer
+/// not allowed, a core or kit using an FMI crate, the master using a model crate.
+fn layer_problems(members: &[Member], patterns: &[(String, String)]) -> Vec<String> {
     let mut problems = Vec::new();
-    for m in &members {
-        let Some(layer) = layers.get(&m.name) else {
-            problems.push(format!("{} is in no layer of [workspace.metadata.layers]", m.name));
-            continue;
-        };
-        let allowed = ALLOWED.iter().find(|(l, _)| l == layer).unwrap_or_else(|| panic!("unknown layer {layer}")).1;
-        for (dep, kind) in &m.deps {
-            if !names.contains(dep.as_str()) {
-                continue; // external crate
+    let mut layer_of_name = BTreeMap::new();
+    for m in members {
+        match layer_of(&m.path, patterns) {
+            Ok(l) => {
+                layer_of_name.insert(m.name.clone(), l);
             }
-            let dep_layer = &layers[dep];
+            Err(e) => problems.push(format!("{}: {e}", m.name)),
+        }
+        let folder = m.path.rsplit('/').next().unwrap();
+        let expected = if folder == "cdylib" {
+            format!("{}-cdylib", m.path.split('/').rev().nth(1).unwrap_or(""))
+        } else {
+            NAME_EXCEPTIONS.iter().find(|(p, ..)| *p == m.path).map_or(folder.to_string(), |(_, n, _)| n.to_string())
+        };
+        if m.name != expected {
+            problems.push(format!(
+                "package {} sits in {}: the folder must be named as the package ({expected})",
+                m.name, m.path
+            ));
+        }
+        if folder == "cdylib" {
+            let adapter = m.path.split('/').rev().nth(1).unwrap_or("");
+            let id = m.lib.clone().unwrap_or_default();
+            let want = DESIGN_CARD_ADAPTERS
+                .iter()
+                .find(|(_, i)| *i == id)
+                .map_or(format!("fmu-{}", kebab(&id)), |(f, _)| f.to_string());
+            if adapter != want {
+                problems.push(format!("the adapter of {id}.fmu sits in {adapter}: name it {want}"));
+            }
+        }
+    }
+    for m in members {
+        let Some(layer) = layer_of_name.get(&m.name) else { continue };
+        let allowed = ALLOWED.iter().find(|(l, _)| l == layer).map_or(&[][..], |a| a.1);
+        for (dep, kind) in &m.deps {
+            let Some(dep_layer) = layer_of_name.get(dep) else { continue }; // external crate
             if kind == "normal" && !allowed.contains(&dep_layer.as_str()) {
                 problems.push(format!("{} ({layer}) depends on {dep} ({dep_layer})", m.name));
             }
@@ -130,26 +218,91 @@ fn every_crate_depends_only_on_the_layers_below_it() {
             }
         }
     }
-    for name in layers.keys() {
-        if !names.contains(name.as_str()) {
-            problems.push(format!("[workspace.metadata.layers] lists {name}, which is not a member"));
+    for (layer, _) in ALLOWED {
+        if !patterns.iter().any(|(_, l)| l == layer) {
+            problems.push(format!("layer {layer} has no folder in [workspace.metadata.layers]"));
         }
     }
+    problems
+}
+
+#[test]
+fn every_member_is_in_one_layer_in_its_folder_and_depends_only_on_the_layers_below_it() {
+    let problems = layer_problems(&members(), &layer_patterns());
     assert!(problems.is_empty(), "{problems:#?}");
 }
 
-/// The rule itself can fail: a core crate with an FMI dependency is reported.
+/// The rule itself can fail: the workspace with one bad member added or changed is reported,
+/// for each way of breaking it.
 #[test]
-fn the_layer_rule_catches_a_core_that_uses_fmi() {
-    let layers = layers();
-    assert_eq!(layers.get("milling-plant").map(String::as_str), Some("core"));
-    assert_eq!(layers.get("fmi2-export").map(String::as_str), Some("export"));
-    let core_allowed = ALLOWED.iter().find(|(l, _)| *l == "core").unwrap().1;
-    assert!(
-        !core_allowed.contains(&"export") && !core_allowed.contains(&"schema") && !core_allowed.contains(&"master")
-    );
-    let master_allowed = ALLOWED.iter().find(|(l, _)| *l == "master").unwrap().1;
-    assert!(!master_allowed.contains(&"core") && !master_allowed.contains(&"adapter"));
+fn the_layer_rule_catches_a_bad_member() {
+    let good = members();
+    let patterns = layer_patterns();
+    assert!(layer_problems(&good, &patterns).is_empty());
+    let with = |f: &dyn Fn(&mut Vec<Member>)| {
+        let mut m = good.clone();
+        f(&mut m);
+        layer_problems(&m, &patterns)
+    };
+    fn member(m: &[Member], name: &str) -> usize {
+        m.iter().position(|x| x.name == name).unwrap()
+    }
+    type Change = Box<dyn Fn(&mut Vec<Member>)>;
+    let cases: [(&str, Change, &str); 6] = [
+        (
+            "a core that uses the FMI export layer",
+            Box::new(|m| {
+                let i = member(m, "milling-plant");
+                m[i].deps.push(("fmi2-export".into(), "normal".into()));
+            }),
+            "core crate milling-plant depends on the FMI crate fmi2-export",
+        ),
+        (
+            "a core put into the FMI folder",
+            Box::new(|m| {
+                let i = member(m, "milling-process");
+                m[i].path = "fmi/milling-process".into();
+            }),
+            "milling-process: fmi/milling-process matches no folder pattern",
+        ),
+        (
+            "a member in no layer",
+            Box::new(|m| {
+                m.push(Member { name: "scratch".into(), path: "scratch".into(), deps: vec![], lib: None });
+            }),
+            "scratch: scratch matches no folder pattern",
+        ),
+        (
+            "a package not named as its folder",
+            Box::new(|m| {
+                let i = member(m, "linear-control");
+                m[i].name = "lin-ctrl".into();
+            }),
+            "package lin-ctrl sits in cores/linear-control",
+        ),
+        (
+            "an adapter folder not named for its FMU",
+            Box::new(|m| {
+                let i = member(m, "fmu-modal-structure-cdylib");
+                m[i].lib = Some("ToolXyPlant".into());
+            }),
+            "the adapter of ToolXyPlant.fmu sits in fmu-modal-structure: name it fmu-tool-xy-plant",
+        ),
+        (
+            "the master using a model crate",
+            Box::new(|m| {
+                let i = member(m, "fmi-master");
+                m[i].deps.push(("fmu-plant".into(), "dev".into()));
+            }),
+            "the generic master depends on the model crate fmu-plant",
+        ),
+    ];
+    for (what, change, expect) in cases {
+        let problems = with(&*change);
+        assert!(problems.iter().any(|p| p.contains(expect)), "{what}: {problems:#?}");
+    }
+    assert!(matches("fmu-*/cdylib", "fmu-plant/cdylib") && !matches("fmu-*", "fmu-plant/cdylib"));
+    assert_eq!(kebab("SlidingModeFuzzyController"), "sliding-mode-fuzzy-controller");
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -243,7 +396,7 @@ fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>>
 fn no_crate_has_an_import_cycle_between_its_modules() {
     let mut problems = Vec::new();
     for m in members() {
-        let src = m.dir.join("src");
+        let src = root().join(&m.path).join("src");
         if !src.is_dir() {
             continue;
         }
@@ -288,7 +441,7 @@ fn no_source_file_is_longer_than_the_limit_without_a_reason() {
     let mut long = Vec::new();
     for m in members() {
         let mut files = Vec::new();
-        rust_files(&m.dir, &mut files);
+        rust_files(&root().join(&m.path), &mut files);
         for f in files {
             let rel = f.strip_prefix(root()).unwrap().to_string_lossy().to_string();
             let n = std::fs::read_to_string(&f).unwrap().lines().count();

@@ -4,8 +4,8 @@
 //! one, runs are reproducible per noise seed, and FMU errors are reported
 //! with the FMU's own words. Short runs (0.05–0.2 s) keep CI fast.
 
-use e2e_tests::{Short, closed_loop_embedded, closed_loop_ssp, rms, run_short};
 use fmi_master::ssp::Order;
+use tests::{Short, closed_loop_embedded, closed_loop_ssp, rms, run_short};
 
 const REC: &[&str] = &["plant.x", "plant.u", "controller.y", "controller.u"];
 

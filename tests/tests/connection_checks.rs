@@ -4,9 +4,9 @@
 //! displacement output). The unit rules themselves (scaled units, unknown units, conversions)
 //! are unit-tested in `fmi-master/src/engine/assembly.rs`.
 
-use e2e_tests::{Short, run_short};
 use fmi_master::SystemFile;
 use packaging::{DECOMPOSED_PLANT_FMUS, DECOMPOSED_PLANT_SSD, fmu_dir, packaged};
+use tests::{Short, run_short};
 
 const SHIPPED: &str =
     r#"startElement="structure" startConnector="tool_x" endElement="process" endConnector="workpiece_x""#;

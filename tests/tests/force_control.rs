@@ -1,11 +1,12 @@
 //! Seed 004's shipped system `ForceControl.ssp` (MillingForcePlant + FrohMracController from
 //! `target/fmu`) in the Rust master: the same numbers as the cores' loop
-//! (`force_control::simulate`), the FROH ramp reaching the plant, and β set through the SSP
+//! (`froh_mrac::simulate`), the FROH ramp reaching the plant, and β set through the SSP
 //! master's overrides.
 
-use e2e_tests::{Short, packaged, run_short};
 use fmi_master::SystemFile;
-use force_control::{ForcePlantParams, MracParams, simulate};
+use froh_mrac::{MracParams, simulate};
+use milling_force_plant::ForcePlantParams;
+use tests::{Short, packaged, run_short};
 
 const REC: &[&str] = &["plant.F_p", "plant.f_c", "plant.f_c_rate", "controller.F_m", "controller.b0_hat"];
 

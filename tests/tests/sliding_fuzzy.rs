@@ -3,9 +3,9 @@
 //! (`sliding_fuzzy_control::simulate`) for DSMC-T2 (the default) and D-PID (set through the
 //! master's overrides).
 
-use e2e_tests::{Short, packaged, run_short};
 use fmi_master::SystemFile;
 use sliding_fuzzy_control::{ControlMode, SlidingFuzzyParams, ToolParams, simulate};
+use tests::{Short, packaged, run_short};
 
 const REC: &[&str] = &["plant.x", "plant.y", "controller.u_x", "controller.u_y", "controller.j_hat_x"];
 

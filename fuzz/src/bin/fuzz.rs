@@ -1,16 +1,16 @@
-//! Long fuzzing runs: `cargo run --release -p fuzz-targets -- --minutes 10`
+//! Long fuzzing runs: `cargo run --release -p fuzz -- --minutes 10`
 //! [`--target NAME`] [`--seed N`] [`--limit-ms MS`], or `-- --replay FILE`
 //! (one kept input, with its backtrace).
 //!
 //! Without `--target`, every target runs in a child process of its own (a
 //! hung input's thread cannot be stopped; it ends with its process), one
 //! after the other, sharing the time: a target that stops early (after
-//! [`fuzz_targets::MAX_HANGS`] hangs) starts again with another seed until
+//! [`fuzz::MAX_HANGS`] hangs) starts again with another seed until
 //! its share of the time is used.
 //! Findings (panics, hangs) are written to `fuzz/regressions/` and the
 //! process exits with status 1.
 
-use fuzz_targets::{Campaign, Target, targets};
+use fuzz::{Campaign, Target, targets};
 use std::time::{Duration, Instant};
 
 fn one(target: Target, seed: u64, time: Duration, limit: Duration) -> usize {

@@ -1,7 +1,0 @@
-//! `SlidingModeFuzzyController.fmu`'s shared library: the 34 `fmi2*` functions of
-//! [`fmu_sliding_fuzzy::SlidingModeFuzzyController`] through the shared export layer. Its library
-//! name `SlidingModeFuzzyController` is the FMU's `modelIdentifier` and the file name under
-//! `binaries/<platform>/`.
-#![allow(non_snake_case)]
-
-fmi2_export::export_fmi2!(fmu_sliding_fuzzy::SlidingModeFuzzyController);

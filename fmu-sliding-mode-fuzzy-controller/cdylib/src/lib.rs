@@ -1,0 +1,7 @@
+//! `SlidingModeFuzzyController.fmu`'s shared library: the 34 `fmi2*` functions of
+//! [`fmu_sliding_mode_fuzzy_controller::SlidingModeFuzzyController`] through the shared export layer. Its library
+//! name `SlidingModeFuzzyController` is the FMU's `modelIdentifier` and the file name under
+//! `binaries/<platform>/`.
+#![allow(non_snake_case)]
+
+fmi2_export::export_fmi2!(fmu_sliding_mode_fuzzy_controller::SlidingModeFuzzyController);
