@@ -41,7 +41,7 @@ cargo test --workspace --release
 
 # The wheel compiles in the background while the single-threaded steps below (valgrind, the
 # FMPy tests) run, so the second core is not idle; its log is printed when it is needed.
-cargo build --release -p fmi-master -p studies --bins
+cargo build --release -p fmi-master -p chatter --bins
 rm -rf target/wheels
 (cd python && exec maturin build --profile fmu-release --zig --compatibility manylinux2014 \
     -i "$root/.venv/bin/python" -o "$root/target/wheels") > target/wheel-build.log 2>&1 &

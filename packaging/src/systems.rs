@@ -253,7 +253,7 @@ mod tests {
     }
 
     /// `Afrac.ssd` (seed 001) is canonical, connects x, v and the two commands, and steps the
-    /// controller's sample period (the loop of `studies::afrac`).
+    /// controller's sample period (the loop of `seed001::afrac`).
     #[test]
     fn the_afrac_system_is_canonical_and_steps_the_sample_period() {
         let d = SystemDescription::from_xml(super::AFRAC_SSD, "Afrac.ssd", None).unwrap();

@@ -11,9 +11,9 @@ use model_description::Value;
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyString};
+use seed000::main_job::{MainJob, MainJobSpec};
 use std::path::{Path, PathBuf};
-use studies::cases::{self, Selection};
-use studies::main_job::{MainJob, MainJobSpec};
+use study_kit::cases::{self, Selection};
 
 pyo3::create_exception!(_native, ChatterError, PyRuntimeError, "An error of the chatter master or of a study.");
 

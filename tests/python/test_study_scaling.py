@@ -11,7 +11,7 @@ import pytest
 
 from conftest import ROOT
 
-sys.path.insert(0, str(ROOT / "studies" / "dask"))
+sys.path.insert(0, str(ROOT / "studies" / "chatter" / "dask"))
 import chatter_dask  # noqa: E402
 
 CHATTER = ROOT / "target" / "release" / "chatter"
@@ -20,7 +20,7 @@ ARGS = ["--seeds", "3", "--stop-time", "0.2", "--cases", "Open loop=off,ADRC-FOP
 
 def chatter(*args, env=None):
     if not CHATTER.exists():
-        pytest.fail(f"{CHATTER} is missing: build it with `cargo build --release -p studies`")
+        pytest.fail(f"{CHATTER} is missing: build it with `cargo build --release -p chatter`")
     r = subprocess.run([str(CHATTER), *map(str, args)], capture_output=True, text=True, env=env)
     assert r.returncode == 0, r.stderr
     return r.stdout
@@ -56,7 +56,7 @@ def test_three_shards_equal_the_local_run(local, tmp_path):
 def test_the_slurm_array_script_runs_each_index_and_equals_the_local_run(local, tmp_path):
     chatter("plan", "main-job", "--out", tmp_path, *ARGS)
     n = len(chatter_dask.case_ids(tmp_path))
-    script = ROOT / "studies" / "slurm" / "run_cases.sbatch"
+    script = ROOT / "studies" / "chatter" / "slurm" / "run_cases.sbatch"
     for k in range(n):
         env = dict(os.environ, SLURM_ARRAY_TASK_ID=str(k), CHATTER=str(CHATTER))
         subprocess.run(["bash", str(script), str(tmp_path)], check=True, env=env, capture_output=True)

@@ -1,7 +1,7 @@
 //! Seed 001 through the packaged FMUs (`target/fmu`):
 //!
 //! * the shipped system `Afrac.ssp` (TurningProcess + AfracController) in the Rust master
-//!   equals the cores' loop `studies::afrac::run` (same coupling: Gauss–Seidel controller →
+//!   equals the cores' loop `seed001::afrac::run` (same coupling: Gauss–Seidel controller →
 //!   plant, step = the sample period), switched and bumpless;
 //! * `TurningProcess.fmu` alone (open loop at 450 rpm, the master's single-FMU run) decays at
 //!   0.97 and grows at 1.03 of the exact limiting depth of `turning_process::stability_limit`,
@@ -9,7 +9,7 @@
 
 use afrac_control::AfracParams;
 use fmi_master::SystemFile;
-use studies::afrac::{Case, run};
+use seed001::afrac::{Case, run};
 use tests::{Short, packaged, run_short};
 use turning_process::{TurningParams, stability_limit};
 

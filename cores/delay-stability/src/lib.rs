@@ -22,6 +22,9 @@
 //! * [`exact`]: the exact stability boundary of the time-invariant case (D-subdivision), the
 //!   reference for the semi-discretisation.
 //! * [`oscillator`]: the damped delayed Mathieu equation, the classic test problem.
+//! * [`zero_order`]: the zero-order (Altintas–Budak) lobes of any receptance closure, exact
+//!   critical depth per speed, b_min/b_max — the frequency-domain method beside the
+//!   semi-discretisation.
 //!
 //! The crate is a core: plain types, `thiserror` errors, no FMI.
 
@@ -32,6 +35,7 @@ pub mod oscillator;
 pub mod presets;
 pub mod quadrature;
 pub mod sd;
+pub mod zero_order;
 
 pub use lobes::{BisectionOptions, Critical, LobePoint, critical_value, lobes};
 pub use sd::{Bifurcation, Multiplier, monodromy, monodromy_dense};

@@ -1,0 +1,157 @@
+//! `chatter lobes`: lobe diagrams of any machine for several controllers on common axes.
+//!
+//! The machine and the controller gains are described with the FMUs' own parameter names:
+//! `--set plant.workpiece.mass=32 --set controller.fopid.kp=2e3` (exactly as `cosim run --set`),
+//! or by pointing at a system (`--system my.ssp`) whose parameter bindings are read through the
+//! FMUs' tables; `--plant seed|ozsoy` and `--preset table2|tuned` choose the starting point.
+//! The lobes and a time-domain run of the FMUs then use one parameter set.
+
+use crate::common::*;
+use anyhow::{Context, Result, bail, ensure};
+use chatter_control::ControllerParams;
+use clap::Args;
+use delay_stability::zero_order::speed_grid;
+use fmi_master::{Override, SystemFile};
+use milling_plant::PlantParams;
+use seed000::lobes_cases::LobesSpec;
+use std::path::PathBuf;
+use std::time::Instant;
+use study_kit::fmu_params::{self, Resolved};
+use study_kit::output::{Series, plot_png, write_csv};
+
+#[derive(Args)]
+pub struct LobesArgs {
+    /// Starting plant: `seed` (Tables 1, 4) or `ozsoy` (Section 5.7 benchmark).
+    #[arg(long, default_value = "seed")]
+    pub plant: String,
+    /// Workpiece modes (1 or 3: the seed's higher modes at 895.8 and 2499.8 Hz); same as
+    /// `--set plant.workpiece.modes=N`.
+    #[arg(long)]
+    pub modes: Option<u32>,
+    /// Take the plant's and the controller's parameters from this system's bindings (.ssp/.ssd).
+    #[arg(long)]
+    pub system: Option<PathBuf>,
+    /// A parameter of the plant or controller FMU: `plant.NAME=VALUE` or `controller.NAME=VALUE`
+    /// (the FMUs' variable names, SI units, enumeration items by name); repeatable, applied last.
+    #[arg(long = "set", value_name = "plant|controller.NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Controllers to draw (`off` = open loop).
+    #[arg(long, value_delimiter = ',', default_value = "off,pid,fopid,adrc_fopid")]
+    pub controllers: Vec<String>,
+    #[command(flatten)]
+    pub gains: GainArgs,
+    /// Lowest speed [rpm].
+    #[arg(long, default_value_t = 1000.0)]
+    pub rpm_min: f64,
+    /// Highest speed [rpm].
+    #[arg(long, default_value_t = 3000.0)]
+    pub rpm_max: f64,
+    /// Number of speeds (2001 over 1000–3000 rpm = 1 rpm steps).
+    #[arg(long, default_value_t = 2001)]
+    pub points: usize,
+    /// Output directory (lobes.csv, lobes.png).
+    #[arg(long, default_value = "lobes-out")]
+    pub out: PathBuf,
+}
+
+/// The plant and the base controller parameters: preset, system bindings, `--set`.
+fn machine(a: &LobesArgs) -> Result<(PlantParams, ControllerParams)> {
+    let mut plant: Resolved<_, _> = Resolved { params: plant_by_name(&a.plant)?, inputs: Default::default() };
+    let mut ctrl: Resolved<_, _> = Resolved { params: controller_preset(&a.gains)?, inputs: Default::default() };
+    if let Some(path) = &a.system {
+        let sys = SystemFile::open(path, Some(&packaging::fmu_dir()))?;
+        let roles = seed000::scenario::roles(&sys)?;
+        plant = fmu_params::resolve::<fmu_plant::MillingPlant>(&sys, &roles.plant, &[])?;
+        ctrl = fmu_params::resolve::<fmu_controller::ChatterController>(&sys, &roles.controller, &[])?;
+    }
+    for s in &a.set {
+        let o: Override = s.parse()?;
+        let (component, name) =
+            o.target.split_once('.').with_context(|| format!("--set {s}: expected plant.NAME or controller.NAME"))?;
+        let value = o.value.to_string();
+        match component {
+            "plant" => fmu_params::apply_text::<fmu_plant::MillingPlant>(&mut plant, name, &value),
+            "controller" => fmu_params::apply_text::<fmu_controller::ChatterController>(&mut ctrl, name, &value),
+            c => bail!("--set {s}: the component is `plant` or `controller`, not `{c}`"),
+        }
+        .map_err(|e| anyhow::anyhow!("--set {s}: {e}"))?;
+    }
+    if let Some(m) = a.modes {
+        plant.params.workpiece.modes = m;
+    }
+    plant.params.validate().map_err(|e| anyhow::anyhow!("plant: {e}"))?;
+    ctrl.params.validate().map_err(|e| anyhow::anyhow!("controller: {e}"))?;
+    Ok((plant.params, ctrl.params))
+}
+
+/// `chatter plan lobes`: the lobes' options and the chunk size.
+#[derive(Args)]
+pub struct LobesPlanArgs {
+    #[command(flatten)]
+    pub lobes: LobesArgs,
+    /// Speeds per case.
+    #[arg(long, default_value_t = 200)]
+    pub chunk: usize,
+}
+
+impl LobesPlanArgs {
+    /// The study's spec (what `chatter plan lobes` writes into the manifest).
+    pub fn spec(&self) -> Result<LobesSpec> {
+        let a = &self.lobes;
+        check_range(a)?;
+        let (plant, base) = machine(a)?;
+        let controllers = a
+            .controllers
+            .iter()
+            .map(|n| Ok((n.clone(), controller_from(&base, structure_by_name(n)?, &a.gains)?)))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(LobesSpec {
+            title: title(a),
+            plant,
+            controllers,
+            rpm_min: a.rpm_min,
+            rpm_max: a.rpm_max,
+            points: a.points,
+            chunk: self.chunk,
+        })
+    }
+}
+
+fn title(a: &LobesArgs) -> String {
+    format!("Stability lobes, {} plant", a.system.as_ref().map_or(a.plant.clone(), |p| p.display().to_string()))
+}
+
+fn check_range(a: &LobesArgs) -> Result<()> {
+    ensure!(
+        a.rpm_min.is_finite() && a.rpm_min > 0.0 && a.rpm_max.is_finite() && a.rpm_max > a.rpm_min,
+        "the speed range [{}, {}] rpm is empty or not positive (need 0 < --rpm-min < --rpm-max)",
+        a.rpm_min,
+        a.rpm_max
+    );
+    ensure!(a.points >= 2, "--points {}: need at least 2 speeds", a.points);
+    Ok(())
+}
+
+pub fn lobes(a: &LobesArgs) -> Result<()> {
+    check_range(a)?;
+    let (plant, base) = machine(a)?;
+    let rpm = speed_grid(a.rpm_min, a.rpm_max, a.points);
+    let mut series = Vec::new();
+    for name in &a.controllers {
+        let c = controller_from(&base, structure_by_name(name)?, &a.gains)?;
+        let t = Instant::now();
+        let (d, ex) = diagram(&plant, &c, &rpm)?;
+        let secs = t.elapsed().as_secs_f64();
+        let (stable, sat) = loop_checks(&plant, &c)?;
+        println!("{name:>11}: {}  [{} speeds in {secs:.2} s]", fmt_ex(&ex), rpm.len());
+        println!("{:>11}  closed loop stable without cutting: {stable}; saturation check exceeded: {sat}", "");
+        series.push(Series { name: name.clone(), points: d });
+    }
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let csv = a.out.join("lobes.csv");
+    let png = a.out.join("lobes.png");
+    write_csv(&csv, &series)?;
+    plot_png(&png, &title(a), &series, 1200, 800)?;
+    println!("wrote {} and {}", csv.display(), png.display());
+    Ok(())
+}

@@ -1,0 +1,73 @@
+//! The project's closed loop as a system of FMUs: where it comes from, and which of its
+//! components are the plant and the controller.
+
+use fmi_master::SystemFile;
+use fmi_master::import::Fmu;
+use std::path::Path;
+use study_kit::StudyError;
+
+/// The project's closed-loop system: `ClosedLoop.ssp` in `fmu_dir` if it exists, else the SSD of
+/// `packaging` with the FMUs of `fmu_dir`.
+pub fn closed_loop_system(fmu_dir: &Path) -> Result<SystemFile, StudyError> {
+    let ssp = fmu_dir.join("ClosedLoop.ssp");
+    Ok(if ssp.is_file() {
+        SystemFile::open(&ssp, Some(fmu_dir))?
+    } else {
+        SystemFile::from_text(packaging::CLOSED_LOOP_SSD, "ClosedLoop.ssd", fmu_dir)?
+    })
+}
+
+/// The plant and controller components of the system and the variables the job uses.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Roles {
+    /// Plant component name (its FMU is `MillingPlant`).
+    pub plant: String,
+    /// Controller component name (its FMU is `ChatterController`).
+    pub controller: String,
+}
+
+impl Roles {
+    /// The measured output, recorded and evaluated.
+    pub fn measured(&self) -> String {
+        format!("{}.x", self.plant)
+    }
+    /// The command, recorded.
+    pub fn command(&self) -> String {
+        format!("{}.u", self.controller)
+    }
+}
+
+/// The components whose FMUs are the project's plant and controller (by `modelIdentifier`).
+pub fn roles(sys: &SystemFile) -> Result<Roles, StudyError> {
+    use fmi2_export::Fmi2Model;
+    let plant_id = fmu_plant::MillingPlant::description().model_identifier().unwrap_or_default();
+    let ctrl_id = fmu_controller::ChatterController::description().model_identifier().unwrap_or_default();
+    let (mut plant, mut controller) = (Vec::new(), Vec::new());
+    for c in &sys.desc.components {
+        let fmu = Fmu::open(&sys.fmu_path(c)?)?;
+        match fmu.model_description().model_identifier() {
+            Some(id) if id == plant_id => plant.push(c.name.clone()),
+            Some(id) if id == ctrl_id => controller.push(c.name.clone()),
+            _ => {}
+        }
+    }
+    let one = |found: Vec<String>, id: &str| match <[String; 1]>::try_from(found) {
+        Ok([name]) => Ok(name),
+        Err(found) => Err(StudyError::Invalid(format!(
+            "{}: the main job needs exactly one {id} component, found {}",
+            sys.origin,
+            found.len()
+        ))),
+    };
+    Ok(Roles { plant: one(plant, plant_id)?, controller: one(controller, ctrl_id)? })
+}
+
+/// The controller gains of a named preset: `tuned` (the shipped defaults) or `table2` (the
+/// seed's Table 2).
+pub fn gain_preset(name: &str) -> Result<chatter_control::ControllerParams, StudyError> {
+    match name {
+        "table2" => Ok(chatter_control::ControllerParams::paper_table2()),
+        "tuned" => Ok(chatter_control::ControllerParams::tuned()),
+        p => Err(StudyError::Invalid(format!("preset {p}: expected table2 or tuned"))),
+    }
+}
