@@ -3,12 +3,12 @@
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
-use seed000::depth_cases::DepthCases;
+use seed000::depth_study::DepthCases;
 use seed000::lobes_cases::LobesCases;
 use seed000::main_job::MainJob;
-use seed000::map_cases::MapCases;
-use seed000::robustness_cases::RobustnessCases;
-use seed000::sweep_cases::SweepCases;
+use seed000::map::MapCases;
+use seed000::robustness::RobustnessCases;
+use seed000::sweeps::SweepCases;
 use seed000::tune_cases::TuneCases;
 use std::path::{Path, PathBuf};
 use study_kit::cases::{self, CaseStudy, Selection};
@@ -19,16 +19,16 @@ pub enum PlanCmd {
     MainJob(crate::main_job::MainJobArgs),
     /// The robustness sample (Table 7): one case per controller × point × noise seed; `--out`
     /// is the study folder.
-    Robustness(crate::robustness::RobustnessArgs),
+    Robustness(seed000::robustness::RobustnessSpec),
     /// The speed × depth map (Figure 16): one case per controller × speed × depth; `--out` is
     /// the study folder.
-    Map(crate::map::MapArgs),
+    Map(seed000::map::MapSpec),
     /// The feed or engagement sweep (Figure 15): one case per controller × value; `--out` is
     /// the study folder.
-    Sweep(crate::sweep::SweepArgs),
+    Sweep(seed000::sweeps::SweepSpec),
     /// The depth study (Figures 9–10): one case per controller × depth; `--out` is the study
     /// folder.
-    DepthStudy(crate::depth_study::DepthStudyArgs),
+    DepthStudy(seed000::depth_study::DepthSpec),
     /// Lobe diagrams: one case per chunk of `--chunk` speeds (every controller); `--out` is the
     /// study folder (lobes.csv, lobes.png).
     Lobes(crate::lobes::LobesPlanArgs),
@@ -71,18 +71,10 @@ pub fn plan(cmd: &PlanCmd) -> Result<()> {
             let n = cases::plan(&job, &a.out)?;
             println!("planned {n} cases of {} in {}", MainJob::KIND, a.out.display());
         }
-        PlanCmd::Robustness(a) => {
-            let study = RobustnessCases::from_spec(a.spec())?;
-            let n = cases::plan(&study, &a.out)?;
-            println!("planned {n} cases of {} in {}", RobustnessCases::KIND, a.out.display());
-        }
-        PlanCmd::Map(a) => {
-            let study = MapCases::from_spec(a.spec())?;
-            let n = cases::plan(&study, &a.out)?;
-            println!("planned {n} cases of {} in {}", MapCases::KIND, a.out.display());
-        }
-        PlanCmd::Sweep(a) => planned(&SweepCases::from_spec(a.spec()?)?, &a.out)?,
-        PlanCmd::DepthStudy(a) => planned(&DepthCases::from_spec(a.spec())?, &a.out)?,
+        PlanCmd::Robustness(s) => planned(&RobustnessCases::from_spec(s.resolved())?, &s.out)?,
+        PlanCmd::Map(s) => planned(&MapCases::from_spec(s.resolved())?, &s.out)?,
+        PlanCmd::Sweep(s) => planned(&SweepCases::from_spec(s.resolved()?)?, &s.out)?,
+        PlanCmd::DepthStudy(s) => planned(&DepthCases::from_spec(s.resolved())?, &s.out)?,
         PlanCmd::Lobes(a) => planned(&LobesCases::from_spec(a.spec()?)?, &a.lobes.out)?,
         PlanCmd::Tune(a) => planned(&TuneCases::from_spec(a.spec()?)?, &a.out)?,
     }

@@ -6,13 +6,14 @@ use clap::Args;
 use delay_stability::zero_order::{CriticalPoint, Extremes};
 use milling_plant::PlantParams;
 use seed000::loop_frf;
+use seed000::scenario::GainPreset;
 use seed000::tuning::{self};
 
 #[derive(Args, Clone)]
 pub struct GainArgs {
     /// Base gains: `table2` (the paper's preset) or `tuned` (the shipped FMU defaults).
-    #[arg(long, default_value = "table2")]
-    pub preset: String,
+    #[arg(long, value_enum, default_value_t = GainPreset::Table2)]
+    pub preset: GainPreset,
     /// PID gains `kp,ki,kd` [N/m, N/(m s), N s/m].
     #[arg(long, value_delimiter = ',')]
     pub pid: Option<Vec<f64>>,
@@ -39,7 +40,7 @@ pub fn structure_by_name(name: &str) -> Result<Structure> {
 
 /// The preset of `--preset` (Table 2 or the tuned defaults).
 pub fn controller_preset(g: &GainArgs) -> Result<ControllerParams> {
-    seed000::scenario::gain_preset(&g.preset).map_err(|e| anyhow::anyhow!("--{e}"))
+    Ok(g.preset.params())
 }
 
 /// Controller parameters for a structure, Table 2 unless overridden.

@@ -34,16 +34,12 @@ mod cases;
 mod check;
 mod common;
 mod decomposed;
-mod depth_study;
 mod dsmc;
 mod froh;
 mod lobes;
 mod main_job;
-mod map;
-mod robustness;
 mod sd_lobes;
 mod spindle;
-mod sweep;
 mod synth;
 mod tables;
 mod tune;
@@ -68,7 +64,7 @@ enum Cmd {
     /// Seed 000's plant as process + structure + actuator FMUs vs the monolithic plant (open-loop RMS).
     Decomposed(decomposed::DecomposedArgs),
     /// Seed 000 Section 5.6.1: the nominal scenario at several depths, through the FMUs (Figures 9-10).
-    DepthStudy(depth_study::DepthStudyArgs),
+    DepthStudy(seed000::depth_study::DepthSpec),
     /// Seed 001: AFrAC on the turning process (open loop, fixed beta, Table 5 schedule): settling times, speed and feed excursions.
     Afrac(afrac::AfracArgs),
     /// Seed 001 Table 4: the genetic algorithm for the switch times of the stepwise beta schedule.
@@ -78,11 +74,11 @@ enum Cmd {
     /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
     Froh(froh::FrohArgs),
     /// Seed 000 Table 7 and Figures 11-13: the robustness sample (19 points x 2 noise seeds), through the FMUs.
-    Robustness(robustness::RobustnessArgs),
+    Robustness(seed000::robustness::RobustnessSpec),
     /// Seed 000 Figure 15: the feed or radial-engagement sweep through the FMUs, with the harmonic-balance and closed-form checks.
-    Sweep(sweep::SweepArgs),
+    Sweep(seed000::sweeps::SweepSpec),
     /// Seed 000 Figure 16: the speed x depth map (90 cells per controller) through the FMUs, heat maps on one colour scale.
-    Map(map::MapArgs),
+    Map(seed000::map::MapSpec),
     /// The seed paper's nominal scenario over all controllers and noise seeds (Table 5, Figures 6-7), through the FMUs.
     MainJob(main_job::MainJobArgs),
     /// Lobe diagrams (CSV + PNG) for several controllers on common axes.
@@ -126,7 +122,7 @@ fn run(cli: &Cli) -> Result<()> {
     match &cli.cmd {
         Cmd::MainJob(a) => main_job::main_job(a),
         Cmd::Decomposed(a) => decomposed::decomposed(a),
-        Cmd::DepthStudy(a) => depth_study::depth_study(a),
+        Cmd::DepthStudy(s) => report(s.run_local()?, &s.out.join("depth_study.md"), "depth_study.csv"),
         Cmd::Froh(a) => froh::froh(a),
         Cmd::Afrac(a) => afrac::afrac(a),
         Cmd::AfracGa(a) => afrac::afrac_ga(a),
@@ -142,8 +138,18 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Plan(c) => cases::plan(c),
         Cmd::Run(a) => cases::run(a),
         Cmd::Collect(a) => cases::collect(a),
-        Cmd::Robustness(a) => robustness::robustness(a),
-        Cmd::Sweep(a) => sweep::sweep(a),
-        Cmd::Map(a) => map::map(a),
+        Cmd::Robustness(s) => report(s.run_local()?, &s.out.join("robustness.md"), "robustness.csv, robustness.png"),
+        Cmd::Sweep(s) => {
+            let md = s.out.join(format!("sweep_{}.md", s.kind));
+            report(s.run_local()?, &md, ".csv, .png")
+        }
+        Cmd::Map(s) => report(s.run_local()?, &s.out.join("map.md"), "map.csv, map.png"),
     }
+}
+
+/// Print a study's markdown report and where it went.
+fn report(md: String, written: &std::path::Path, also: &str) -> Result<()> {
+    println!("{md}");
+    println!("wrote {} (and {also})", written.display());
+    Ok(())
 }

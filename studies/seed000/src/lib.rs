@@ -57,29 +57,25 @@
 //! | [`scenario`] | the shipped closed loop (`ClosedLoop.ssp`), which component is which, the gain presets |
 //! | [`main_job`] | Table 5 and Figures 6–7: the nominal scenario over all controllers and noise seeds, as cases |
 //! | [`batch`] | many short FMU runs in parallel: windows, metrics, the streamed crash-safe results CSV, Table 7 statistics |
-//! | [`robustness`], [`robustness_cases`] | Table 7: the 19-point × 2-seed sample and its statistics |
-//! | [`sweeps`], [`sweep_cases`] | Figure 15: feed and engagement sweeps, harmonic balance, closed-form lobe minimum |
-//! | [`depth_study`], [`depth_cases`] | Section 5.6.1 (Figures 9–10): the nominal scenario at several depths |
-//! | [`map`], [`map_cases`] | Figure 16: the speed × depth map and its growth check against the lobes |
+//! | [`robustness`] | Table 7: the 19-point × 2-seed sample and its statistics |
+//! | [`sweeps`] | Figure 15: feed and engagement sweeps, harmonic balance, closed-form lobe minimum |
+//! | [`depth_study`] | Section 5.6.1 (Figures 9–10): the nominal scenario at several depths |
+//! | [`map`] | Figure 16: the speed × depth map and its growth check against the lobes |
 //! | [`decomposed`] | the plant as process + structure + actuator FMUs against the monolithic plant |
 
 pub mod batch;
 pub mod closed_loop;
 pub mod decomposed;
-pub mod depth_cases;
 pub mod depth_study;
 pub mod fmu_validation;
 pub mod lobes_cases;
 pub mod loop_frf;
 pub mod main_job;
 pub mod map;
-pub mod map_cases;
 pub mod robustness;
-pub mod robustness_cases;
 pub mod scenario;
 pub mod sd_lobes;
 pub mod sd_validation;
-pub mod sweep_cases;
 pub mod sweeps;
 pub mod table8;
 pub mod tune_cases;

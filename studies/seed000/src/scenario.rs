@@ -62,12 +62,59 @@ pub fn roles(sys: &SystemFile) -> Result<Roles, StudyError> {
     Ok(Roles { plant: one(plant, plant_id)?, controller: one(controller, ctrl_id)? })
 }
 
-/// The controller gains of a named preset: `tuned` (the shipped defaults) or `table2` (the
-/// seed's Table 2).
-pub fn gain_preset(name: &str) -> Result<chatter_control::ControllerParams, StudyError> {
-    match name {
-        "table2" => Ok(chatter_control::ControllerParams::paper_table2()),
-        "tuned" => Ok(chatter_control::ControllerParams::tuned()),
-        p => Err(StudyError::Invalid(format!("preset {p}: expected table2 or tuned"))),
+/// The controller gains a study starts from: a named choice on the command line (`--preset`)
+/// and in a case manifest (by its name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum GainPreset {
+    /// The shipped FMU defaults (tuned by PSO under the robust saturation check).
+    Tuned,
+    /// The seed's Table 2.
+    Table2,
+}
+
+impl GainPreset {
+    /// The preset's controller parameters.
+    pub fn params(self) -> chatter_control::ControllerParams {
+        match self {
+            GainPreset::Tuned => chatter_control::ControllerParams::tuned(),
+            GainPreset::Table2 => chatter_control::ControllerParams::paper_table2(),
+        }
+    }
+
+    /// The name (as on the command line and in manifests).
+    pub fn name(self) -> &'static str {
+        match self {
+            GainPreset::Tuned => "tuned",
+            GainPreset::Table2 => "table2",
+        }
+    }
+}
+
+impl std::fmt::Display for GainPreset {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Where a study finds the FMUs by default (`$FMU_DIR`, else `target/fmu`), as an absolute path
+/// so that workers in other folders read the same files.
+pub fn default_fmu_dir() -> std::path::PathBuf {
+    std::path::absolute(packaging::fmu_dir()).unwrap_or_else(|_| packaging::fmu_dir())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::ValueEnum;
+
+    #[test]
+    fn gain_presets_have_one_name_on_the_command_line_and_in_manifests() {
+        for p in GainPreset::value_variants() {
+            let cli = p.to_possible_value().unwrap();
+            assert_eq!(cli.get_name(), p.name());
+            assert_eq!(serde_json::to_string(p).unwrap(), format!("\"{}\"", p.name()));
+        }
+        assert_eq!(GainPreset::Table2.params(), chatter_control::ControllerParams::paper_table2());
     }
 }

@@ -1,11 +1,10 @@
-//! The depth study ([`crate::depth_study`]) as independent cases ([`study_kit::batch_cases`]): one
+//! The depth study ([`super`]) as independent cases ([`study_kit::batch_cases`]): one
 //! case per controller × axial depth, so `chatter plan depth-study …`, `chatter run` and
 //! `chatter collect` give the CSV and table of a local `chatter depth-study`.
 
+use super::{CSV_HEADER, DepthRow, DepthStudy, csv_row, jobs, one, report};
 use crate::batch::RowSink;
-use crate::depth_study::{CSV_HEADER, DepthRow, DepthStudy, csv_row, jobs, one, report};
-use crate::scenario::gain_preset;
-use crate::scenario::{Roles, closed_loop_system, roles};
+use crate::scenario::{GainPreset, Roles, closed_loop_system, default_fmu_dir, roles};
 use chatter_control::Structure;
 use fmi_master::SystemFile;
 use model_kit::Choice;
@@ -18,30 +17,56 @@ use study_kit::fmu_params::overrides_of;
 
 type Result<T> = std::result::Result<T, StudyError>;
 
-/// Everything that defines a depth study (the `chatter depth-study` options).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Everything that defines a depth study: the options of `chatter depth-study` and
+/// `chatter plan depth-study`, and the spec a case manifest holds (without `out`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, clap::Args)]
 pub struct DepthSpec {
     /// Where the FMUs are (`ClosedLoop.ssp` there, else packaging's SSD).
+    #[arg(long, default_value_os_t = default_fmu_dir())]
     pub fmu_dir: PathBuf,
     /// Axial depths [mm].
+    #[arg(long = "depths", value_delimiter = ',', default_value = "1,1.5,2")]
     pub depths_mm: Vec<f64>,
     /// Controller structure item names.
+    #[arg(long, value_delimiter = ',', default_value = "off,pid,fopid,adrc_fopid")]
     pub controllers: Vec<String>,
-    /// Gain preset: `tuned` or `table2`.
-    pub preset: String,
+    /// Controller gains.
+    #[arg(long, value_enum, default_value_t = GainPreset::Tuned)]
+    pub preset: GainPreset,
     /// Noise seed.
+    #[arg(long, default_value_t = 1)]
     pub seed: i32,
-    /// The short runs of `--quick` (1.2 s; spectrum from 0.2 s, window 1.0–1.2 s).
+    /// A short run (1.2 s; spectrum from 0.2 s, window 1.0–1.2 s) for tests.
+    #[arg(long)]
     pub quick: bool,
+    /// Output directory (depth_study.csv, depth_study.md); the study folder of a plan.
+    #[arg(long, default_value = "results/depth_study")]
+    #[serde(skip)]
+    pub out: PathBuf,
 }
 
 impl DepthSpec {
+    /// The spec with the FMU folder absolute (what a plan writes).
+    pub fn resolved(&self) -> DepthSpec {
+        DepthSpec { fmu_dir: std::path::absolute(&self.fmu_dir).unwrap_or(self.fmu_dir.clone()), ..self.clone() }
+    }
+
+    /// Run the study here (the runs in parallel) and write its report into `out`; returns the
+    /// markdown.
+    pub fn run_local(&self) -> Result<String> {
+        let spec = self.resolved();
+        let sys = closed_loop_system(&spec.fmu_dir)?;
+        let s = spec.study(&roles(&sys)?, &self.out)?;
+        let rows = super::run(&sys, &s)?;
+        report(&s, &rows, spec.preset.name())
+    }
+
     /// The study (controller gains named by `roles`), writing into `out`; every choice checked.
     pub fn study(&self, roles: &Roles, out: &Path) -> Result<DepthStudy> {
         if !self.depths_mm.iter().all(|d| d.is_finite() && *d >= 0.0) {
             return Err(StudyError::Invalid(format!("--depths {:?}: depths must not be negative", self.depths_mm)));
         }
-        let preset = gain_preset(&self.preset).map_err(|e| StudyError::Invalid(format!("--{e}")))?;
+        let preset = self.preset.params();
         let controllers = self
             .controllers
             .iter()
@@ -133,7 +158,7 @@ impl RunBatch for DepthRuns {
             csv.row(&csv_row(r))?;
         }
         csv.complete()?;
-        let md = report(&study, &rows, &self.spec.preset)?;
+        let md = report(&study, &rows, self.spec.preset.name())?;
         Ok(Collected { text: md, written: vec![csv.path().to_path_buf(), dir.join("depth_study.md")] })
     }
 }

@@ -10,10 +10,13 @@
 //! tolerance at the boundary: a cell may disagree only if one of its four neighbours lies on
 //! the other side of the lobe ([`disagreements`]).
 
+mod cases;
+
 use crate::batch::{Metrics, RowSink, Windows, run_all, run_one};
 use crate::loop_frf;
 use crate::robustness::{base_plant, plant_overrides};
 use crate::scenario::roles;
+pub use cases::*;
 use chatter_control::Structure;
 use fmi_master::{Override, SystemFile};
 use model_description::Value;

@@ -1,11 +1,10 @@
-//! The speed × depth map ([`crate::map`]) as independent cases ([`study_kit::cases`]): one case
+//! The speed × depth map ([`super`]) as independent cases ([`study_kit::cases`]): one case
 //! per controller × speed × depth, so `chatter plan map …`, `chatter run` (shards, Slurm array
 //! tasks, Dask) and `chatter collect` give the tables and heat maps of a local `chatter map`.
 
+use super::{CSV_HEADER, Cell, MapJob, MapStudy, csv_row, jobs, seed_grid, write_report};
 use crate::batch::{Metrics, RowSink, Windows, run_one};
-use crate::map::{CSV_HEADER, Cell, MapJob, MapStudy, csv_row, jobs, write_report};
-use crate::scenario::gain_preset;
-use crate::scenario::{Roles, closed_loop_system, roles};
+use crate::scenario::{GainPreset, Roles, closed_loop_system, default_fmu_dir, roles};
 use chatter_control::Structure;
 use fmi_master::SystemFile;
 use model_kit::Choice;
@@ -18,28 +17,73 @@ use study_kit::fmu_params::overrides_of;
 
 type Result<T> = std::result::Result<T, StudyError>;
 
-/// Everything that defines a map (the `chatter map` options).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Everything that defines a map: the options of `chatter map` and `chatter plan map`, and the
+/// spec a case manifest holds (without `quick` and `out`, which [`MapSpec::resolved`] has
+/// applied).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, clap::Args)]
 pub struct MapSpec {
     /// Where the FMUs are (`ClosedLoop.ssp` there, else packaging's SSD).
+    #[arg(long, default_value_os_t = default_fmu_dir())]
     pub fmu_dir: PathBuf,
-    /// Axial depths [mm] (rows).
+    /// Axial depths [mm] (rows; default: the seed's 0.5:0.25:2.5).
+    #[arg(long = "depths", value_delimiter = ',')]
     pub depths_mm: Vec<f64>,
-    /// Speed grid `[lo, hi, step]` [rpm].
+    /// Speed grid `lo,hi,step` [rpm].
+    #[arg(long, value_delimiter = ',', default_value = "1000,2800,200")]
     pub rpm: Vec<f64>,
     /// Controller structure item names.
+    #[arg(long, value_delimiter = ',', default_value = "off,pid,fopid,adrc_fopid")]
     pub controllers: Vec<String>,
-    /// Gain preset: `tuned` or `table2`.
-    pub preset: String,
+    /// Controller gains.
+    #[arg(long, value_enum, default_value_t = GainPreset::Tuned)]
+    pub preset: GainPreset,
     /// Noise seed.
+    #[arg(long, default_value_t = 1)]
     pub seed: i32,
-    /// Run length per cell [s].
+    /// Run length per cell [s] (the seed: 5); RMS over (1 s, stop], growth = last second / first.
+    #[arg(long, default_value_t = 5.0)]
     pub stop_time: f64,
-    /// Noise and drift off.
+    /// Noise and drift off (the growth check against the lobes).
+    #[arg(long)]
     pub quiet: bool,
+    /// A short run for tests: 2 s per cell.
+    #[arg(long)]
+    #[serde(skip)]
+    pub quick: bool,
+    /// Output directory (map.csv, map.md, map.png); the study folder of a plan.
+    #[arg(long, default_value = "results/map")]
+    #[serde(skip)]
+    pub out: PathBuf,
 }
 
 impl MapSpec {
+    /// The spec with the defaults and `--quick` applied and the FMU folder absolute (what a plan
+    /// writes).
+    pub fn resolved(&self) -> MapSpec {
+        let mut s = self.clone();
+        if s.depths_mm.is_empty() {
+            s.depths_mm = seed_grid().0.iter().map(|d| d * 1e3).collect();
+        }
+        if s.quick {
+            s.stop_time = 2.0;
+            s.quick = false;
+        }
+        s.fmu_dir = std::path::absolute(&s.fmu_dir).unwrap_or(s.fmu_dir);
+        s
+    }
+
+    /// Run the map here (the cells in parallel) and write its report into `out`; returns the
+    /// markdown.
+    pub fn run_local(&self) -> Result<String> {
+        let spec = self.resolved();
+        let sys = closed_loop_system(&spec.fmu_dir)?;
+        let s = spec.study(&roles(&sys)?, &self.out)?;
+        let began = std::time::Instant::now();
+        let cells = super::run(&sys, &s)?;
+        let title = format!("{} — {:.0} s wall", spec.title(&s), began.elapsed().as_secs_f64());
+        Ok(write_report(&s, &cells, &title)?.0)
+    }
+
     /// The map (controller gains named by `roles`), writing into `out`; every choice checked.
     pub fn study(&self, roles: &Roles, out: &Path) -> Result<MapStudy> {
         let bad = |m: String| StudyError::Invalid(m);
@@ -54,7 +98,7 @@ impl MapSpec {
             return Err(bad(format!("stop time {}: must be at least 2 s", self.stop_time)));
         }
         let rpm: Vec<f64> = (0..).map(|k| r[0] + r[2] * f64::from(k)).take_while(|x| *x <= r[1] + 1e-9).collect();
-        let preset = gain_preset(&self.preset)?;
+        let preset = self.preset.params();
         let controllers = self
             .controllers
             .iter()

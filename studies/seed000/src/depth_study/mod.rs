@@ -15,7 +15,10 @@
 //! Every value set on the FMUs is typed, from the adapters' tables; each run's row is appended
 //! to `depth_study.csv` as soon as it finishes, so an interrupted study keeps what it had.
 
+mod cases;
+
 use crate::scenario::{Roles, roles};
+pub use cases::*;
 use chatter_control::Structure;
 use fmi_master::spectrum::single_sided;
 use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};

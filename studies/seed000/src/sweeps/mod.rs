@@ -21,10 +21,13 @@
 //! seed's Eq. 9 "a_p" is a typo for a_e). Check: the lobe solver's minimum over 1000–3000 rpm
 //! equals the closed form 2kζ(1 ± ζ)/(K_t |α₀(a_e)|) (+ for α₀ > 0, − for α₀ < 0) to 1e-6.
 
+mod cases;
+
 use crate::batch::{Metrics, RowSink, Windows, run_all, run_one};
 use crate::loop_frf::{self, LoopFrf};
 use crate::robustness::{base_plant, plant_overrides};
 use crate::scenario::{Roles, roles};
+pub use cases::*;
 use chatter_control::{ControllerParams, Structure};
 use delay_stability::zero_order::speed_grid;
 use fmi_master::{Override, SystemFile};

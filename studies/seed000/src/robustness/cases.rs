@@ -1,13 +1,12 @@
-//! The robustness sample ([`crate::robustness`]) as independent cases ([`study_kit::cases`]): one
+//! The robustness sample ([`super`]) as independent cases ([`study_kit::cases`]): one
 //! case per controller × point × noise seed, so `chatter plan robustness …`, `chatter run`
 //! (shards, Slurm array tasks, Dask) and `chatter collect` give the tables and figure of a local
 //! `chatter robustness` run. The spec holds the command's choices (not the resolved runs), so a
 //! machine that reads the manifest rebuilds exactly the same runs from its own copy of the system.
 
+use super::{CSV_HEADER, Group, Point, Robustness, Run, csv_row, runs, sample_with, write_report};
 use crate::batch::{Metrics, RowSink, Windows, run_one};
-use crate::robustness::{CSV_HEADER, Group, Point, Robustness, Run, csv_row, runs, sample_with, write_report};
-use crate::scenario::gain_preset;
-use crate::scenario::{Roles, closed_loop_system, roles};
+use crate::scenario::{GainPreset, Roles, closed_loop_system, default_fmu_dir, roles};
 use chatter_control::Structure;
 use fmi_master::SystemFile;
 use model_kit::Choice;
@@ -20,28 +19,70 @@ use study_kit::fmu_params::overrides_of;
 
 type Result<T> = std::result::Result<T, StudyError>;
 
-/// Everything that defines a robustness study (the `chatter robustness` options).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Everything that defines a robustness study: the options of `chatter robustness` and
+/// `chatter plan robustness`, and the spec a case manifest holds (without `quick` and `out`,
+/// which [`RobustnessSpec::resolved`] has applied).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, clap::Args)]
 pub struct RobustnessSpec {
     /// Where the FMUs are (`ClosedLoop.ssp` there, else packaging's SSD).
+    #[arg(long, default_value_os_t = default_fmu_dir())]
     pub fmu_dir: PathBuf,
     /// Controller structure item names (`off`, `pid`, `fopid`, `adrc_fopid`).
+    #[arg(long, value_delimiter = ',', default_value = "off,pid,fopid,adrc_fopid")]
     pub controllers: Vec<String>,
-    /// Gain preset: `tuned` (shipped defaults) or `table2` (the paper's Table 2).
-    pub preset: String,
-    /// Noise seeds of every point.
+    /// Controller gains.
+    #[arg(long, value_enum, default_value_t = GainPreset::Tuned)]
+    pub preset: GainPreset,
+    /// Noise seeds of every point (two: the 38-run reading of the seed's sample).
+    #[arg(long, value_delimiter = ',', default_value = "1,2")]
     pub seeds: Vec<i32>,
     /// Run length [s]; the RMS is over (1 s, stop].
+    #[arg(long, default_value_t = 30.0)]
     pub stop_time: f64,
-    /// Groups of the sample: `plant`, `disturbance`, `speed`.
+    /// Groups of the sample to run: `plant`, `disturbance`, `speed`.
+    #[arg(long, value_delimiter = ',', default_value = "plant,disturbance,speed")]
     pub groups: Vec<String>,
     /// Speeds of the k −15 % sweep [rpm].
+    #[arg(long, value_delimiter = ',', default_value = "1000,1450,1900,2350,2800")]
     pub speeds: Vec<f64>,
-    /// Noise and drift off at every point.
+    /// Noise and drift off at every point (the forced response alone).
+    #[arg(long)]
     pub quiet: bool,
+    /// A short run for tests: 2 s per run (RMS over 1–2 s), noise seed 1 only.
+    #[arg(long)]
+    #[serde(skip)]
+    pub quick: bool,
+    /// Output directory (robustness.csv, robustness.md, robustness.png); the study folder of a plan.
+    #[arg(long, default_value = "results/robustness")]
+    #[serde(skip)]
+    pub out: PathBuf,
 }
 
 impl RobustnessSpec {
+    /// The spec with `--quick` applied and the FMU folder absolute (what a plan writes).
+    pub fn resolved(&self) -> RobustnessSpec {
+        let mut s = self.clone();
+        if s.quick {
+            s.seeds.truncate(1);
+            s.stop_time = 2.0;
+            s.quick = false;
+        }
+        s.fmu_dir = std::path::absolute(&s.fmu_dir).unwrap_or(s.fmu_dir);
+        s
+    }
+
+    /// Run the study here (the runs in parallel) and write its report into `out`; returns the
+    /// markdown.
+    pub fn run_local(&self) -> Result<String> {
+        let spec = self.resolved();
+        let sys = closed_loop_system(&spec.fmu_dir)?;
+        let s = spec.study(&roles(&sys)?, &self.out)?;
+        let began = std::time::Instant::now();
+        let rows = super::run(&sys, &s)?;
+        let title = format!("{} — {:.0} s wall", spec.title(&s), began.elapsed().as_secs_f64());
+        Ok(write_report(&sys, &s, &rows, &title)?.0)
+    }
+
     /// The study (controller gains named by `roles`), writing into `out`; every choice checked.
     pub fn study(&self, roles: &Roles, out: &Path) -> Result<Robustness> {
         let bad = |m: String| StudyError::Invalid(m);
@@ -54,7 +95,7 @@ impl RobustnessSpec {
         if self.speeds.is_empty() || !self.speeds.iter().all(|r| r.is_finite() && *r > 0.0) {
             return Err(bad(format!("speeds {:?}: give positive speeds", self.speeds)));
         }
-        let preset = gain_preset(&self.preset)?;
+        let preset = self.preset.params();
         let controllers = self
             .controllers
             .iter()

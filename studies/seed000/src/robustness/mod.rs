@@ -24,9 +24,12 @@
 //! and max of the raw RMS over `t ∈ (1, 30]` s (as the repo's Table 5) and of the detrended RMS
 //! (the seed does not say which), over the 38 values and over the 19 seed-1 values.
 
+mod cases;
+
 use crate::batch::{Metrics, RowSink, Windows, run_all, run_one, table7_stats};
 use crate::closed_loop::{CoreLoop, Coupling};
 use crate::scenario::{Roles, roles};
+pub use cases::*;
 use chatter_control::Structure;
 use fmi_master::{Override, SystemFile};
 use milling_plant::{PlantInputs, PlantParams};

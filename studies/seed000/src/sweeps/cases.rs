@@ -1,11 +1,12 @@
-//! The feed and engagement sweeps ([`crate::sweeps`]) as independent cases
+//! The feed and engagement sweeps ([`super`]) as independent cases
 //! ([`study_kit::batch_cases`]): one case per controller × swept value, so `chatter plan sweep …`,
 //! `chatter run` and `chatter collect` give the CSV, table and figure of a local `chatter sweep`.
 
+use super::{
+    ENGAGEMENTS_MM, FEEDS_MM, Kind, Sweep, SweepJob, SweepOutput, csv_header, csv_row, jobs, mm, report, row, run_job,
+};
 use crate::batch::{RowSink, Windows};
-use crate::scenario::gain_preset;
-use crate::scenario::{Roles, closed_loop_system, roles};
-use crate::sweeps::{Kind, Sweep, SweepJob, SweepOutput, csv_header, csv_row, jobs, mm, report, row, run_job};
+use crate::scenario::{GainPreset, Roles, closed_loop_system, default_fmu_dir, roles};
 use chatter_control::Structure;
 use fmi_master::SystemFile;
 use model_kit::Choice;
@@ -18,28 +19,79 @@ use study_kit::fmu_params::overrides_of;
 
 type Result<T> = std::result::Result<T, StudyError>;
 
-/// Everything that defines a sweep (the `chatter sweep` options).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Everything that defines a sweep: the options of `chatter sweep` and `chatter plan sweep`,
+/// and the spec a case manifest holds (without `quick` and `out`, which
+/// [`SweepSpec::resolved`] has applied).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, clap::Args)]
 pub struct SweepSpec {
     /// Where the FMUs are (`ClosedLoop.ssp` there, else packaging's SSD).
+    #[arg(long, default_value_os_t = default_fmu_dir())]
     pub fmu_dir: PathBuf,
-    /// `feed` or `engagement`.
+    /// What to sweep: `feed` (f_z) or `engagement` (a_e, up-milling).
     pub kind: String,
-    /// Swept values [mm].
+    /// Values [mm] (default: the seed's feeds 0.025–0.12 mm or engagements 4–14 mm).
+    #[arg(long = "values", value_delimiter = ',')]
     pub values_mm: Vec<f64>,
     /// Controller structure item names.
+    #[arg(long, value_delimiter = ',', default_value = "off,pid,fopid,adrc_fopid")]
     pub controllers: Vec<String>,
-    /// Gain preset: `tuned` or `table2`.
-    pub preset: String,
+    /// Controller gains.
+    #[arg(long, value_enum, default_value_t = GainPreset::Tuned)]
+    pub preset: GainPreset,
     /// Noise seed.
+    #[arg(long, default_value_t = 1)]
     pub seed: i32,
     /// Run length [s]; the RMS is over (1 s, stop].
+    #[arg(long, default_value_t = 10.0)]
     pub stop_time: f64,
-    /// Noise and drift off.
+    /// Noise and drift off (the harmonic-balance check).
+    #[arg(long)]
     pub quiet: bool,
+    /// A short run for tests: 2 s per run, RMS over 1–2 s.
+    #[arg(long)]
+    #[serde(skip)]
+    pub quick: bool,
+    /// Output directory (sweep_<kind>.csv, .md, .png); the study folder of a plan.
+    #[arg(long, default_value = "results/sweeps")]
+    #[serde(skip)]
+    pub out: PathBuf,
 }
 
 impl SweepSpec {
+    /// The spec with the seed's values for its kind, `--quick` applied and the FMU folder
+    /// absolute (what a plan writes); every choice checked.
+    pub fn resolved(&self) -> Result<SweepSpec> {
+        let mut s = self.clone();
+        let defaults = match s.kind.as_str() {
+            "feed" => &FEEDS_MM[..],
+            "engagement" => &ENGAGEMENTS_MM[..],
+            k => return Err(StudyError::Invalid(format!("sweep {k}: expected feed or engagement"))),
+        };
+        if !(s.stop_time.is_finite() && s.stop_time > 1.0) {
+            return Err(StudyError::Invalid(format!("--stop-time {}: must be above 1 s", s.stop_time)));
+        }
+        if s.values_mm.is_empty() {
+            s.values_mm = defaults.to_vec();
+        }
+        if s.quick {
+            s.stop_time = 2.0;
+            s.quick = false;
+        }
+        s.fmu_dir = std::path::absolute(&s.fmu_dir).unwrap_or(s.fmu_dir);
+        Ok(s)
+    }
+
+    /// Run the sweep here (the runs in parallel) and write its report into `out`; returns the
+    /// markdown.
+    pub fn run_local(&self) -> Result<String> {
+        let spec = self.resolved()?;
+        let sys = closed_loop_system(&spec.fmu_dir)?;
+        let s = spec.study(&roles(&sys)?, &self.out)?;
+        let began = std::time::Instant::now();
+        let rows = super::run(&sys, &s)?;
+        report(&s, &rows, spec.preset.name(), Some(began.elapsed().as_secs_f64()))
+    }
+
     /// The sweep (controller gains named by `roles`), writing into `out`; every choice checked.
     pub fn study(&self, roles: &Roles, out: &Path) -> Result<Sweep> {
         let bad = |m: String| StudyError::Invalid(m);
@@ -54,7 +106,7 @@ impl SweepSpec {
         if !(self.stop_time.is_finite() && self.stop_time > 1.0) {
             return Err(bad(format!("--stop-time {}: must be above 1 s", self.stop_time)));
         }
-        let preset = gain_preset(&self.preset)?;
+        let preset = self.preset.params();
         let controllers = self
             .controllers
             .iter()
@@ -142,7 +194,7 @@ impl RunBatch for SweepRuns {
             csv.row(&csv_row(r))?;
         }
         csv.complete()?;
-        let md = report(&sweep, &rows, &self.spec.preset, None)?;
+        let md = report(&sweep, &rows, self.spec.preset.name(), None)?;
         let written = ["csv", "md", "png"].iter().map(|e| dir.join(format!("sweep_{name}.{e}"))).collect();
         Ok(Collected { text: md, written })
     }
