@@ -18,7 +18,7 @@ use seed000::loop_frf;
 use seed000::tuning::TuningProblem;
 use std::hint::black_box;
 use std::time::Instant;
-use study_kit::pso::PsoConfig;
+use study_kit::optim::pso::PsoConfig;
 
 /// Best wall time of `rounds` calls of `f` \[s\].
 fn best<R>(rounds: usize, mut f: impl FnMut() -> R) -> f64 {

@@ -17,7 +17,7 @@ use std::path::Path;
 use study_kit::StudyError;
 use study_kit::batch_cases::{Batch, RunBatch};
 use study_kit::cases::Collected;
-use study_kit::pso::PsoConfig;
+use study_kit::optim::pso::PsoConfig;
 
 type Result<T> = std::result::Result<T, StudyError>;
 

@@ -45,7 +45,7 @@ use crate::loop_frf;
 use chatter_control::{ControllerParams, Structure};
 use delay_stability::zero_order::speed_grid;
 use milling_plant::PlantParams;
-use study_kit::pso::{PsoConfig, PsoResult, minimize};
+use study_kit::optim::pso::{PsoConfig, PsoResult, minimize};
 
 /// Penalty weight α \[mm\]; larger than [`DEPTH_CAP_MM`], so every feasible point beats every
 /// infeasible one.

@@ -296,7 +296,8 @@ pub fn summary_csv(rows: &[Summary]) -> String {
     s
 }
 
-/// The genetic algorithm of Table 4: the switch times `(t₁…t₄)` of the stepwise schedule.
+/// The genetic algorithm of Table 4 ([`study_kit::optim::ga`]) on the switch times `(t₁…t₄)`
+/// of the stepwise schedule.
 ///
 /// Table 4: four design variables of 6 bits each on `[0.02, 2.4]` s (64 levels, step
 /// 2.38/63 s), uniform crossover with p = 0.5, independent mutation of every allele with
@@ -305,27 +306,7 @@ pub fn summary_csv(rows: &[Summary]) -> String {
 /// population 20, binary tournament selection, one elite kept, at most 40 generations,
 /// ChaCha8 seeded (reproducible). A switch time's order is that of the latest time ≤ t
 /// ([`afrac_control::Schedule::beta_at`]): the GA does not constrain their sequence.
-#[derive(Clone, Debug)]
-pub struct Ga {
-    /// Population size.
-    pub population: usize,
-    /// Most generations.
-    pub generations: usize,
-    /// Seed.
-    pub seed: u64,
-    /// Crossover probability per bit (uniform).
-    pub crossover: f64,
-    /// Mutation probability per bit.
-    pub mutation: f64,
-    /// Stop when this fraction of the bit positions is unanimous.
-    pub convergence: f64,
-}
-
-impl Default for Ga {
-    fn default() -> Self {
-        Ga { population: 20, generations: 40, seed: 1, crossover: 0.5, mutation: 0.01, convergence: 0.99 }
-    }
-}
+pub use study_kit::optim::ga::Ga;
 
 /// 6-bit code to a time in [0.02, 2.4] s.
 pub fn decode(bits: u32) -> f64 {
@@ -351,9 +332,6 @@ pub struct GaResult {
 
 /// Run the GA on `study`'s 5 mm AFrAC case (its controller template, `bumpless` as given).
 pub fn ga(study: &AfracStudy, ga: &Ga, bumpless: bool) -> Result<GaResult, AfracStudyError> {
-    use rand::{Rng, SeedableRng};
-    use rayon::prelude::*;
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(ga.seed);
     let eval = |g: u32| -> Result<f64, AfracStudyError> {
         let times = [0, 1, 2, 3].map(|i| decode(g >> (6 * i)));
         let case = Case {
@@ -370,54 +348,13 @@ pub fn ga(study: &AfracStudy, ga: &Ga, bumpless: bool) -> Result<GaResult, Afrac
         let trace = run(&case)?;
         Ok(trace.iter().map(|p| p.x.abs()).sum::<f64>() / trace.len() as f64)
     };
-    let mut pop: Vec<u32> = (0..ga.population).map(|_| rng.random::<u32>() & 0xFF_FFFF).collect();
-    let mut fit: Vec<f64> = pop.par_iter().map(|g| eval(*g)).collect::<Result<_, _>>()?;
-    let mut evaluations = pop.len();
-    let mut history = Vec::new();
-    let unanimous = |pop: &[u32]| {
-        let same = (0..24).filter(|b| {
-            let ones = pop.iter().filter(|g| (*g >> b) & 1 == 1).count();
-            ones == 0 || ones == pop.len()
-        });
-        same.count() as f64 / 24.0
-    };
-    let mut generation = 0;
-    loop {
-        let best = (0..pop.len()).min_by(|a, b| fit[*a].total_cmp(&fit[*b])).unwrap_or(0);
-        history.push(fit[best]);
-        if unanimous(&pop) >= ga.convergence || generation >= ga.generations {
-            let g = pop[best];
-            return Ok(GaResult {
-                times: [0, 1, 2, 3].map(|i| decode(g >> (6 * i))),
-                objective: fit[best],
-                generations: generation,
-                converged: unanimous(&pop),
-                evaluations,
-                history,
-            });
-        }
-        let mut next = vec![pop[best]];
-        while next.len() < pop.len() {
-            let mut pick = || {
-                let (a, b) = (rng.random_range(0..pop.len()), rng.random_range(0..pop.len()));
-                if fit[a] <= fit[b] { pop[a] } else { pop[b] }
-            };
-            let (p1, p2) = (pick(), pick());
-            let mut child = 0u32;
-            for b in 0..24 {
-                let from = if rng.random::<f64>() < ga.crossover { p1 } else { p2 };
-                let mut bit = (from >> b) & 1;
-                if rng.random::<f64>() < ga.mutation {
-                    bit ^= 1;
-                }
-                child |= bit << b;
-            }
-            next.push(child);
-        }
-        let new_fit: Vec<f64> = next[1..].par_iter().map(|g| eval(*g)).collect::<Result<_, _>>()?;
-        evaluations += new_fit.len();
-        fit = std::iter::once(fit[best]).chain(new_fit).collect();
-        pop = next;
-        generation += 1;
-    }
+    let r = ga.minimise(24, eval)?;
+    Ok(GaResult {
+        times: [0, 1, 2, 3].map(|i| decode(r.best >> (6 * i))),
+        objective: r.fitness,
+        generations: r.generations,
+        converged: r.converged,
+        evaluations: r.evaluations,
+        history: r.history,
+    })
 }

@@ -9,7 +9,7 @@
 //! | [`batch_cases`] | the one case study of a fixed list of runs plus a report ([`batch_cases::RunBatch`], [`batch_cases::Batch`]) |
 //! | [`fmu_params`] | parameter sets named as the FMUs name them: text, SSP and typed values resolved through an adapter's table; overrides for the master |
 //! | [`growth`] | growth or decay of a recorded response (the time-domain side of every stability check) |
-//! | [`pso`] | particle swarm optimisation, seeded, parallel over particles |
+//! | [`optim`] | the shared optimisers: particle swarm ([`optim::pso`], seed 000) and the binary genetic algorithm ([`optim::ga`], seed 001), seeded, parallel over the population |
 //! | [`output`] | CSV and PNG of several lobe diagrams on common axes |
 //! | [`figures`] | line plots and heat maps on a common colour scale |
 
@@ -19,7 +19,7 @@ mod error;
 pub mod figures;
 pub mod fmu_params;
 pub mod growth;
+pub mod optim;
 pub mod output;
-pub mod pso;
 
 pub use error::StudyError;
