@@ -47,6 +47,13 @@ fn cell(s: &str) -> String {
     out
 }
 
+/// A number as the table shows it: plain, or in exponent form when that is shorter to read
+/// (`1e15`, `1e-8` instead of sixteen digits).
+fn num(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && !(1e-4..1e6).contains(&a) { format!("{x:e}") } else { format!("{x}") }
+}
+
 /// FMI's spelling of an enum's `Debug` name (`CalculatedParameter` → `calculatedParameter`).
 fn fmi_name(debug: String) -> String {
     let mut c = debug.chars();
@@ -69,7 +76,7 @@ pub fn variable_table(md: &ModelDescription) -> String {
             _ => format!("{:?}", v.scalar_type()),
         };
         let start = v.start_value().map(|s| match s {
-            model_description::Value::Real(x) => format!("{x}"),
+            model_description::Value::Real(x) => num(x),
             model_description::Value::Integer(i) => i.to_string(),
             model_description::Value::Boolean(b) => b.to_string(),
             model_description::Value::String(s) => format!("\"{s}\""),
@@ -78,8 +85,8 @@ pub fn variable_table(md: &ModelDescription) -> String {
             (None, None) => String::new(),
             (lo, hi) => format!(
                 "{} … {}",
-                lo.map(|x| x.to_string()).unwrap_or_default(),
-                hi.map(|x| x.to_string()).unwrap_or_default()
+                lo.map(num).unwrap_or_default(),
+                hi.map(num).unwrap_or_default()
             ),
         };
         t.push_str(&format!(
@@ -222,5 +229,6 @@ mod tests {
     fn table_cells_escape_markup() {
         assert_eq!(cell("a|b *c* x_1 <d>\nnext"), "a\\|b \\*c\\* x\\_1 &lt;d> next");
         assert_eq!(fmi_name("CalculatedParameter".into()), "calculatedParameter");
+        assert_eq!([num(1e15), num(1e-8), num(2000.0), num(0.00005), num(-0.1), num(0.0)], ["1e15", "1e-8", "2000", "5e-5", "-0.1", "0"]);
     }
 }
