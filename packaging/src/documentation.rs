@@ -83,11 +83,7 @@ pub fn variable_table(md: &ModelDescription) -> String {
         });
         let range = match v.range() {
             (None, None) => String::new(),
-            (lo, hi) => format!(
-                "{} … {}",
-                lo.map(num).unwrap_or_default(),
-                hi.map(num).unwrap_or_default()
-            ),
+            (lo, hi) => format!("{} … {}", lo.map(num).unwrap_or_default(), hi.map(num).unwrap_or_default()),
         };
         t.push_str(&format!(
             "| `{}` | {} | {} | {} | {} | {} | {} | {} |\n",
@@ -229,6 +225,9 @@ mod tests {
     fn table_cells_escape_markup() {
         assert_eq!(cell("a|b *c* x_1 <d>\nnext"), "a\\|b \\*c\\* x\\_1 &lt;d> next");
         assert_eq!(fmi_name("CalculatedParameter".into()), "calculatedParameter");
-        assert_eq!([num(1e15), num(1e-8), num(2000.0), num(0.00005), num(-0.1), num(0.0)], ["1e15", "1e-8", "2000", "5e-5", "-0.1", "0"]);
+        assert_eq!(
+            [num(1e15), num(1e-8), num(2000.0), num(0.00005), num(-0.1), num(0.0)],
+            ["1e15", "1e-8", "2000", "5e-5", "-0.1", "0"]
+        );
     }
 }

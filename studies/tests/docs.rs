@@ -76,8 +76,14 @@ fn every_cosim_command_is_in_the_cli_reference() {
     // (`cargo test --workspace`), but not for this package's, so it must be there and current.
     let bin = Path::new(env!("CARGO_BIN_EXE_chatter")).with_file_name(format!("cosim{}", std::env::consts::EXE_SUFFIX));
     let build = "cargo build --release -p fmi-master --bin cosim (or cargo test --workspace --release)";
-    let built = std::fs::metadata(&bin).and_then(|m| m.modified()).unwrap_or_else(|_| panic!("{} is missing: {build}", bin.display()));
-    assert!(built >= newest(&root().join("fmi/fmi-master/src")), "{} is older than its sources: {build}", bin.display());
+    let built = std::fs::metadata(&bin)
+        .and_then(|m| m.modified())
+        .unwrap_or_else(|_| panic!("{} is missing: {build}", bin.display()));
+    assert!(
+        built >= newest(&root().join("fmi/fmi-master/src")),
+        "{} is older than its sources: {build}",
+        bin.display()
+    );
     let missing = missing_from_reference(&bin, "cosim");
     assert!(missing.is_empty(), "docs/book/cli.md lacks {}", missing.join(", "));
 }

@@ -113,7 +113,10 @@ fn column(header: &[String], name: &str) -> Option<usize> {
 #[test]
 fn the_readme_is_a_front_door_of_at_most_300_lines() {
     let n = read("README.md").lines().count();
-    assert!(n <= README_MAX_LINES, "README.md has {n} lines (at most {README_MAX_LINES}): move the details into docs/book");
+    assert!(
+        n <= README_MAX_LINES,
+        "README.md has {n} lines (at most {README_MAX_LINES}): move the details into docs/book"
+    );
 }
 
 #[test]
@@ -156,7 +159,9 @@ fn the_crate_tables_name_every_member_once_with_its_folder_and_layer() {
     let mut named: BTreeMap<String, usize> = BTreeMap::new();
     let mut wrong = Vec::new();
     for (header, rows) in tables(&doc) {
-        if let (Some(c), Some(f), Some(l)) = (column(&header, "crate"), column(&header, "folder"), column(&header, "layer")) {
+        if let (Some(c), Some(f), Some(l)) =
+            (column(&header, "crate"), column(&header, "folder"), column(&header, "layer"))
+        {
             for r in &rows {
                 let name = code_spans(&r[c]).concat();
                 *named.entry(name.clone()).or_default() += 1;
