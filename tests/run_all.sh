@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# The project's test command (README "Run all the tests"). On a fresh machine
+# The project's test command (README "The two commands"). On a fresh machine
 # it installs what it needs: the Rust crates (cargo fetches them) and a Python
-# venv with FMPy, pythonfmu and pytest from PyPI. Then: formatting, clippy,
-# building the FMUs, every Rust test, the leak check of the export layer, and
-# the Python (FMPy) tests.
+# venv with FMPy, pythonfmu, pytest and MkDocs from PyPI. Then: the docs book,
+# formatting, clippy, building the FMUs, every Rust test, the leak check of the
+# export layer, and the Python (FMPy) tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
@@ -13,7 +13,7 @@ step "Python venv with FMPy, cargo-zigbuild and zig"
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
-.venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt
+.venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt -r docs/requirements.txt
 export PATH="$root/.venv/bin:$PATH"
 
 step "toolchains of the FMU platforms (win64: mingw-w64, wine for the test)"
@@ -26,6 +26,9 @@ if ! command -v x86_64-w64-mingw32-gcc >/dev/null || [ ! -x /usr/lib/wine/wine64
 fi
 # every platform must be built and checked: a missing toolchain fails instead of skipping
 export FMU_PLATFORMS=linux64-portable,win64
+
+step "docs book (mkdocs build --strict: broken links and anchors fail; site in target/book)"
+.venv/bin/mkdocs build --strict -f docs/mkdocs.yml  # not --quiet: it hides the warnings that --strict counts
 
 step "cargo fmt --check"
 cargo fmt --all --check

@@ -9,7 +9,8 @@
 //!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so` and, where
 //!   the toolchain is installed, `binaries/win64/<modelIdentifier>.dll` ([`platforms`]: the
 //!   linux64 binary is built against glibc 2.17 with `cargo zigbuild` when available),
-//!   `documentation/index.html` (generated from the same table) and
+//!   `documentation/index.html` (the adapter's Markdown documentation and a variable table from
+//!   the same description, rendered to HTML by [`documentation`]) and
 //!   `resources/` (a README naming the FMU; our models read no resource files);
 //! * `products.json`: the model identifiers of all products, in [`PRODUCTS`] order (the
 //!   Python conformance tests parametrize over it, so a product added to [`PRODUCTS`] is
@@ -28,9 +29,11 @@
 use anyhow::{Context, Result};
 use fmi_archive::{Compression, ZipBuilder};
 use fmi2_export::Fmi2Model;
-use model_description::{ModelDescription, VarKind};
+use model_description::ModelDescription;
 use std::path::{Path, PathBuf};
 
+pub mod documentation;
+pub use documentation::documentation_html;
 pub mod platforms;
 pub use platforms::Build;
 pub mod systems;
@@ -44,7 +47,8 @@ pub struct Product {
     pub dir: &'static str,
     /// The model's description (its `modelIdentifier` is the cdylib's library name).
     pub description: fn() -> &'static ModelDescription,
-    /// Long documentation (Markdown-ish text shown in `documentation/index.html`).
+    /// The model's documentation as Markdown ([`documentation`] renders it, with the variable
+    /// table, into `documentation/index.html` and the FMU's page of the book).
     pub documentation: &'static str,
 }
 
@@ -189,59 +193,6 @@ pub fn build_cdylibs() -> Result<Vec<Build>> {
         }
     }
     Ok(plan.builds)
-}
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
-}
-
-/// `documentation/index.html`, generated from the variable table and the model docs.
-pub fn documentation_html(md: &ModelDescription, docs: &str) -> String {
-    let mut h = String::new();
-    let title = esc(&md.model_name);
-    h.push_str(&format!(
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n\
-         <style>body{{font-family:sans-serif;max-width:70em;margin:auto}}table{{border-collapse:collapse}}\
-         td,th{{border:1px solid #999;padding:2px 6px;font-size:90%}}pre{{white-space:pre-wrap}}</style></head><body>\n\
-         <h1>{title}</h1>\n<p>{}</p>\n<p>FMI 2.0 Co-Simulation, modelIdentifier <code>{}</code>, GUID <code>{}</code>.</p>\n",
-        esc(md.description.as_deref().unwrap_or("")),
-        esc(md.model_identifier().unwrap_or("")),
-        esc(&md.guid)
-    ));
-    h.push_str("<h2>Model</h2>\n<pre>");
-    h.push_str(&esc(docs));
-    h.push_str("</pre>\n<h2>Variables</h2>\n<table><tr><th>name</th><th>causality</th><th>variability</th><th>type</th><th>start</th><th>unit</th><th>min</th><th>max</th><th>description</th></tr>\n");
-    for v in md.variables() {
-        let ty = match &v.kind {
-            VarKind::Enumeration(e) => {
-                let items = md.enumeration_items(&e.declared_type);
-                let items: Vec<_> = items.iter().map(|(n, i)| format!("{i}={n}")).collect();
-                format!("{} ({})", e.declared_type, items.join(", "))
-            }
-            _ => format!("{:?}", v.scalar_type()),
-        };
-        let start = v.start_value().map(|s| match s {
-            model_description::Value::Real(x) => format!("{x}"),
-            model_description::Value::Integer(i) => i.to_string(),
-            model_description::Value::Boolean(b) => b.to_string(),
-            model_description::Value::String(s) => format!("\"{s}\""),
-        });
-        let (lo, hi) = v.range();
-        h.push_str(&format!(
-            "<tr><td><code>{}</code></td><td>{:?}</td><td>{:?}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
-            esc(&v.name),
-            v.causality,
-            v.variability,
-            esc(&ty),
-            esc(&start.unwrap_or_default()),
-            esc(v.unit().unwrap_or("")),
-            lo.map(|x| x.to_string()).unwrap_or_default(),
-            hi.map(|x| x.to_string()).unwrap_or_default(),
-            esc(v.description.as_deref().unwrap_or("")),
-        ));
-    }
-    h.push_str("</table>\n</body></html>\n");
-    h
 }
 
 /// Write one `.fmu` archive with the binary of each of `builds` (one model description, one
