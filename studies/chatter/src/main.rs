@@ -1,29 +1,16 @@
-//! `chatter`: the studies of the seed papers (lobe diagrams, PSO tuning, tables, validation through the FMUs).
+//! `chatter`: every study of the seed papers on the command line. `chatter --help` lists the
+//! commands, `chatter COMMAND --help` their options; the docs book's CLI reference has them
+//! with the pages that show their results. Every command (tested against the clap tree):
 //!
-//! ```text
-//! chatter main-job [--out results] [--seeds 10] [--stop-time 30] [--system X.ssp] ...
-//! chatter lobes  [--plant seed|ozsoy] [--controllers off,pid,fopid,adrc_fopid] [--pid kp,ki,kd]
-//!                  [--fopid kp,ki,kd,λ,μ] [--adrc kp,ki,kd,λ,μ] [--rpm-min 1000] [--rpm-max 3000]
-//!                  [--points 2001] [--out DIR]
-//! chatter sd-lobes [--plant seed|ozsoy] [--set plant.NAME=VALUE] [--preset seed002-6.1|seed002-6.1-closed|seed002-6.2]
-//!                  [--m 40] [--points 41] [--rpm-min ..] [--rpm-max ..] [--quick] [--out DIR]
-//! chatter tune   [--plant seed|ozsoy] [--structures pid,fopid,adrc_fopid] [--runs 10] [--seed 1]
-//!                  [--particles 40] [--iterations 60] [--out DIR]
-//! chatter tables [--points 2001] [--pid ..] [--fopid ..] [--adrc ..] [--out DIR]
-//! chatter afrac [--quick] [--duration 3] [--lambda-speed L3] [--lambda-feed L2] [--out afrac-out] [--fmu]
-//! chatter afrac-ga [--quick] [--seed 1] [--population 20] [--generations 40] [--bumpless]
-//! chatter synth [--case all|6.1|table2] [--max-order 4] [--quick] [--out synth-out]
-//! chatter froh [--quick] [--beta-step 0.05] [--substeps 20] [--out froh-out]
-//! chatter dsmc [--quick] [--ts 1e-4] [--sigma 0.17] [--u-max 2000] [--out dsmc-out]
-//! chatter validate [--controllers ..] [--preset table2|tuned] [--rpm ..] [--duration 1.5]
-//! chatter plan main-job --out DIR [main-job options]      # a study as independent cases
-//! chatter plan robustness|map|sweep KIND|depth-study|lobes [--chunk N]|tune --out DIR [options]
-//! chatter run DIR [--shard I/N | --index K | --case ID,.. | --slurm-array]
-//! chatter collect DIR
-//! chatter robustness [--preset tuned|table2] [--seeds 1,2] [--stop-time 30] [--groups ..] [--quiet] [--quick]
-//! chatter sweep feed|engagement [--values ..] [--preset ..] [--stop-time 10] [--quiet] [--quick]
-//! chatter map    [--depths ..] [--rpm 1000,2800,200] [--preset ..] [--stop-time 5] [--quiet] [--quick]
-//! ```
+//! | papers | commands |
+//! |---|---|
+//! | seed 000 (ADRC-FOPID): lobes and tuning | `chatter lobes`, `chatter sd-lobes`, `chatter tune`, `chatter tables`, `chatter check`, `chatter validate` |
+//! | seed 000: the FMU studies | `chatter main-job`, `chatter robustness`, `chatter sweep`, `chatter map`, `chatter depth-study`, `chatter decomposed` |
+//! | seed 001 (AFrAC) | `chatter afrac`, `chatter afrac-ga` |
+//! | seed 002 (AMB spindle) | `chatter spindle`, `chatter synth` |
+//! | seed 003 (DSMC, type-2 fuzzy) | `chatter dsmc` |
+//! | seed 004 (FROH force control) | `chatter froh` |
+//! | studies as cases, on many machines | `chatter plan`, `chatter run`, `chatter collect` |
 //!
 //! Gains are force-equivalent SI values (`u` in N, `y` in m); `--adrc` takes the FOPID gains of
 //! the ADRC loop in the same force units (converted by `b0` as in `chatter_control::params`).

@@ -93,3 +93,22 @@ fn subcommands_are_read_from_the_commands_section() {
     let help = "About\n\nUsage: x <COMMAND>\n\nCommands:\n  run   Run it\n  plan  Plan\n  help  Print\n\nOptions:\n  -h, --help\n";
     assert_eq!(subcommands(help), ["run", "plan"]);
 }
+
+/// The crate doc of the `chatter` binary (`src/main.rs`) names every top-level command.
+#[test]
+fn the_crate_doc_names_every_chatter_command() {
+    let doc: String = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("src/main.rs"))
+        .unwrap()
+        .lines()
+        .filter(|l| l.starts_with("//!"))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let tree = command_tree(Path::new(env!("CARGO_BIN_EXE_chatter")), &[]);
+    let missing: Vec<String> = tree
+        .iter()
+        .filter(|p| p.len() == 1)
+        .map(|p| format!("`chatter {}`", p[0]))
+        .filter(|name| !doc.contains(name.as_str()))
+        .collect();
+    assert!(missing.is_empty(), "studies/chatter/src/main.rs's doc lacks {}", missing.join(", "));
+}
