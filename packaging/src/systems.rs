@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result};
 use fmi2_export::Fmi2Model;
-use model_description::{ModelDescription, VarKind};
+use model_description::ModelDescription;
 
 /// The project's closed-loop system (plant + controller), `packaging/scenarios/ClosedLoop.ssd`:
 /// the `SystemStructure.ssd` of `ClosedLoop.ssp` (and, with the Table 2 bindings, of
@@ -46,24 +46,9 @@ pub const SLIDING_MODE_FUZZY_SSD: &str = include_str!("../scenarios/SlidingModeF
 /// the `SystemStructure.ssd` of `Afrac.ssp`.
 pub const AFRAC_SSD: &str = include_str!("../scenarios/Afrac.ssd");
 
-/// One FMU variable assignment as an SSP parameter (enumerations by item name; reals without a
-/// unit attribute: SSP units must be declared in a Units element, and the FMUs' are SI).
+/// One FMU variable assignment as an SSP parameter (enumerations by item name).
 fn ssp_parameter(md: &ModelDescription, name: String, value: model_description::Value) -> Result<ssp::Parameter> {
-    use model_description::Value;
-    use ssp::ParamValue;
-    let var = md.variable(&name).with_context(|| format!("{name}: not a variable of {}", md.model_name))?;
-    let value = match (&var.kind, value) {
-        (VarKind::Enumeration(e), Value::Integer(i)) => {
-            let items = md.enumeration_items(&e.declared_type);
-            let item = items.iter().find(|(_, v)| *v == i).with_context(|| format!("{name} = {i}: no item"))?;
-            ParamValue::Enumeration(item.0.clone())
-        }
-        (_, Value::Real(x)) => ParamValue::Real(x, None),
-        (_, Value::Integer(i)) => ParamValue::Integer(i),
-        (_, Value::Boolean(b)) => ParamValue::Boolean(b),
-        (_, Value::String(s)) => ParamValue::String(s),
-    };
-    Ok(ssp::Parameter { name, value })
+    ssp::fmu_parameter(md, &name, value, ssp::Enumerations::ItemNames).map_err(anyhow::Error::msg)
 }
 
 /// The closed loop with the paper's Table 2 controller gains bound as SSP parameters

@@ -28,6 +28,7 @@
 
 mod archive;
 mod bindings;
+mod fmu_values;
 mod error;
 mod model;
 mod names;
@@ -40,6 +41,7 @@ mod write;
 pub use archive::{MAX_SSD_BYTES, SSD_ENTRY, extract_ssp, read_ssd_from_ssp, read_ssp, write_ssp, write_ssp_archive};
 pub use bindings::{SourceReader, parse_ssv};
 pub use error::SspError;
+pub use fmu_values::{Enumerations, fmu_parameter};
 pub use model::{
     ComponentDesc, Connection, Connector, ConnectorKind, ConnectorType, Linear, MasterSettings, Order, ParamValue,
     Parameter, SystemDescription,
