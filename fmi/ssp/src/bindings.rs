@@ -140,6 +140,26 @@ fn write_value(v: &ParamValue) -> schema::ParameterChild {
     }
 }
 
+/// A standalone `.ssv` file (root `ssv:ParameterSet` named `name`) holding `params` (a name
+/// given twice keeps its last value); [`parse_ssv`] reads it back.
+pub fn ssv_xml(name: &str, params: &[Parameter]) -> Result<String, SspError> {
+    let err = |e: quick_xml::SeError| SspError::Write { name: name.to_string(), message: e.to_string() };
+    let Some(mut b) = write_bindings(params, name) else {
+        return Err(SspError::Write {
+            name: name.to_string(),
+            message: "a parameter set needs at least one parameter".into(),
+        });
+    };
+    let set = b.binding.remove(0).values.map(|v| v.sets).unwrap_or_default().remove(0);
+    let mut body = String::new();
+    let mut ser = quick_xml::se::Serializer::with_root(&mut body, Some("ssv:ParameterSet")).map_err(err)?;
+    ser.indent(' ', 2);
+    serde::Serialize::serialize(&set, ser).map_err(err)?;
+    let body =
+        body.replacen("<ssv:ParameterSet", &format!("<ssv:ParameterSet xmlns:ssv=\"{}\"", crate::names::NS_SSV), 1);
+    Ok(format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n"))
+}
+
 /// One inline binding with one parameter set named `set_name` (None if there
 /// are no parameters). A name given twice keeps its last value, which is the
 /// value the list means (later wins), so the written binding stays valid.
@@ -166,4 +186,22 @@ pub(crate) fn write_bindings(params: &[Parameter], set_name: &str) -> Option<sch
             ..Default::default()
         }],
     })
+}
+
+#[cfg(test)]
+mod ssv_tests {
+    use super::*;
+
+    #[test]
+    fn a_written_parameter_set_reads_back() {
+        let params = vec![
+            Parameter { name: "pid.kp".into(), value: ParamValue::Real(1.5e5, None) },
+            Parameter { name: "structure".into(), value: ParamValue::Integer(2) },
+            Parameter { name: "fractional.method".into(), value: ParamValue::Enumeration("oustaloup".into()) },
+        ];
+        let xml = ssv_xml("tuned_pid", &params).unwrap();
+        assert!(xml.contains("name=\"tuned_pid\""), "{xml}");
+        assert_eq!(parse_ssv(&xml, "tuned_pid.ssv", "").unwrap(), params);
+        assert!(ssv_xml("empty", &[]).is_err());
+    }
 }

@@ -16,7 +16,12 @@ pub enum Enumerations {
 
 /// One FMU variable assignment as an SSP parameter; reals are written without a unit attribute
 /// (an SSP unit must be declared in a Units element, and the FMUs' values are SI).
-pub fn fmu_parameter(md: &ModelDescription, name: &str, value: Value, enums: Enumerations) -> Result<Parameter, String> {
+pub fn fmu_parameter(
+    md: &ModelDescription,
+    name: &str,
+    value: Value,
+    enums: Enumerations,
+) -> Result<Parameter, String> {
     let var = md.variable(name).ok_or_else(|| format!("{name}: not a variable of {}", md.model_name))?;
     let value = match (&var.kind, value) {
         (VarKind::Enumeration(e), Value::Integer(i)) => match enums {

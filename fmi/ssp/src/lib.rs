@@ -28,8 +28,8 @@
 
 mod archive;
 mod bindings;
-mod fmu_values;
 mod error;
+mod fmu_values;
 mod model;
 mod names;
 mod number;
@@ -39,7 +39,7 @@ mod schema;
 mod write;
 
 pub use archive::{MAX_SSD_BYTES, SSD_ENTRY, extract_ssp, read_ssd_from_ssp, read_ssp, write_ssp, write_ssp_archive};
-pub use bindings::{SourceReader, parse_ssv};
+pub use bindings::{SourceReader, parse_ssv, ssv_xml};
 pub use error::SspError;
 pub use fmu_values::{Enumerations, fmu_parameter};
 pub use model::{

@@ -76,6 +76,31 @@ impl Default for SaturationCheck {
     }
 }
 
+/// What tuning needs of a plant: its closed-loop lobes and its saturation check. Implemented
+/// for the seed plant ([`PlantParams`]: the exact one-direction closed loop of
+/// [`crate::loop_frf`] and the time-domain check on the plant core) and by a user's machine
+/// (the `machine` crate: the 2-D closed loop and the check on the structure and actuator cores).
+pub trait TuningPlant: Clone + Send + Sync {
+    /// The smallest closed-loop critical depth over `speeds` \[m\] and its speed \[rpm\]
+    /// (None if the loop cannot be evaluated).
+    fn min_depth(&self, ctrl: &ControllerParams, speeds: &[f64]) -> Option<(f64, f64)>;
+    /// The saturation check of `ctrl` on this plant.
+    fn saturation(&self, check: &SaturationCheck, ctrl: &ControllerParams) -> Result<SaturationReport, String>;
+}
+
+impl TuningPlant for PlantParams {
+    fn min_depth(&self, ctrl: &ControllerParams, speeds: &[f64]) -> Option<(f64, f64)> {
+        let rpm_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
+        let problem = loop_frf::problem(self, Some(ctrl), rpm_min).ok()?;
+        let cp = problem.min_depth(speeds);
+        Some((cp.depth, cp.rpm))
+    }
+
+    fn saturation(&self, check: &SaturationCheck, ctrl: &ControllerParams) -> Result<SaturationReport, String> {
+        check.run(self, ctrl)
+    }
+}
+
 /// Outcome of the saturation check.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SaturationReport {
@@ -140,15 +165,15 @@ pub struct SeedSweep {
 
 impl SaturationCheck {
     /// This check (its `seed` replaced) for each of `seeds`.
-    pub fn over_seeds(
+    pub fn over_seeds<P: TuningPlant>(
         &self,
-        plant: &PlantParams,
+        plant: &P,
         ctrl: &ControllerParams,
         seeds: impl IntoIterator<Item = u64>,
     ) -> Result<SeedSweep, String> {
         let mut s = SeedSweep { seeds: 0, passed: 0, peak_u: 0.0, worst_saturated: 0 };
         for seed in seeds {
-            let r = SaturationCheck { seed, ..*self }.run(plant, ctrl)?;
+            let r = plant.saturation(&SaturationCheck { seed, ..*self }, ctrl)?;
             s.seeds += 1;
             s.passed += usize::from(!r.exceeded);
             s.peak_u = s.peak_u.max(r.peak_u);
@@ -258,9 +283,9 @@ pub struct CostBreakdown {
 
 /// A tuning problem: plant, structure, base controller parameters, speeds, saturation check.
 #[derive(Clone, Debug)]
-pub struct TuningProblem {
+pub struct TuningProblem<P: TuningPlant = PlantParams> {
     /// Plant.
-    pub plant: PlantParams,
+    pub plant: P,
     /// Structure to tune.
     pub structure: Structure,
     /// Fixed parameters (period, u_max, ω_o, b0, fractional settings).
@@ -276,9 +301,9 @@ pub struct TuningProblem {
     pub check_seeds: Vec<u64>,
 }
 
-impl TuningProblem {
+impl<P: TuningPlant> TuningProblem<P> {
     /// The seed's problem: speeds 1000, 1050, …, 3000 rpm; base = Table 2 preset.
-    pub fn new(plant: PlantParams, structure: Structure) -> TuningProblem {
+    pub fn new(plant: P, structure: Structure) -> TuningProblem<P> {
         TuningProblem {
             plant,
             structure,
@@ -317,12 +342,10 @@ impl TuningProblem {
         if ctrl.validate().is_err() {
             return bad;
         }
-        let rpm_min = self.speeds.iter().copied().fold(f64::INFINITY, f64::min);
-        let Ok(problem) = loop_frf::problem(&self.plant, Some(ctrl), rpm_min) else {
+        let Some((depth, rpm_at_min)) = self.plant.min_depth(ctrl, &self.speeds) else {
             return bad;
         };
-        let cp = problem.min_depth(&self.speeds);
-        let b = cp.depth * 1e3;
+        let b = depth * 1e3;
         let sat = if ctrl.structure == Structure::Off { None } else { self.saturation(ctrl) };
         let n = (self.check.duration / ctrl.ts).round().max(1.0) * self.check_seeds.len().max(1) as f64;
         let penalty = match sat {
@@ -333,7 +356,7 @@ impl TuningProblem {
             _ => 2.0 * PENALTY_MM,
         };
         let b_capped = b.min(DEPTH_CAP_MM);
-        CostBreakdown { b_min_mm: b, rpm_at_min: cp.rpm, saturation: sat, cost: -b_capped + penalty }
+        CostBreakdown { b_min_mm: b, rpm_at_min, saturation: sat, cost: -b_capped + penalty }
     }
 
     /// The saturation check over [`TuningProblem::check_seeds`] (or `check.seed` alone):
@@ -342,7 +365,7 @@ impl TuningProblem {
         let seeds = if self.check_seeds.is_empty() { vec![self.check.seed] } else { self.check_seeds.clone() };
         let mut all: Option<SaturationReport> = None;
         for seed in seeds {
-            let r = SaturationCheck { seed, ..self.check }.run(&self.plant, ctrl).ok()?;
+            let r = self.plant.saturation(&SaturationCheck { seed, ..self.check }, ctrl).ok()?;
             all = Some(match all {
                 None => r,
                 Some(a) => SaturationReport {
@@ -362,7 +385,7 @@ impl TuningProblem {
     }
 
     /// One PSO run; `on_iteration(k, best_cost)` after each iteration.
-    pub fn run<P: Fn(usize, f64)>(&self, cfg: &PsoConfig, on_iteration: P) -> TuningRun {
+    pub fn run<F: Fn(usize, f64)>(&self, cfg: &PsoConfig, on_iteration: F) -> TuningRun {
         let (lo, hi) = self.bounds();
         let r = minimize(|x| self.cost(x), &lo, &hi, cfg, on_iteration);
         let gains = self.decode(&r.best_x);
