@@ -51,15 +51,21 @@ pub fn live_models() -> i64 {
 
 /// Counts its oscillator in [`live_models`] while it exists.
 struct Alive;
-impl Default for Alive {
-    fn default() -> Self {
+impl Alive {
+    fn new() -> Self {
         LIVE.with(|n| n.set(n.get() + 1));
         Alive
     }
 }
+impl Default for Alive {
+    /// A deserialized oscillator (serde skips the field) counts too.
+    fn default() -> Self {
+        Alive::new()
+    }
+}
 impl Clone for Alive {
     fn clone(&self) -> Self {
-        Alive::default()
+        Alive::new()
     }
 }
 impl Drop for Alive {
@@ -104,7 +110,7 @@ impl Fmi2Model for Oscillator {
             k: values.real(vr::K),
             c: if values.boolean(vr::DAMPED) { 0.5 } else { 0.0 },
             steps: 0,
-            alive: Alive::default(),
+            alive: Alive::new(),
         })
     }
 
