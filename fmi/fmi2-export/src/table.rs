@@ -199,7 +199,9 @@ pub struct Row<S> {
     set: Setter<S>,
     /// An `f64` or `bool` field of [`Row::field`]: on the per-step [`Direct`] path.
     direct: bool,
-    /// A [`Row::computed`] row (its value goes through the model's own conversions).
+    /// A [`Row::computed`] row (its value goes through the model's own conversions; read by
+    /// `checks::start_values_are_the_defaults`).
+    #[cfg_attr(not(feature = "checks"), allow(dead_code))]
     computed: bool,
 }
 
