@@ -5,7 +5,7 @@
 
 use chatter_control::{Controller, ControllerParams, FractionalMethod, Structure};
 use fmi2_export::model_kit::Choice;
-use fmi2_export::table::checks::{Quiet as NoLog, vr};
+use fmi2_export::table::checks::{Quiet, vr};
 use fmi2_export::{Environment, Fmi2Model, Values};
 use fmu_controller::ChatterController;
 use num_complex::Complex64;
@@ -133,7 +133,7 @@ fn frequency_response_through_the_fmi_calls() {
                     let t = k as f64 * p.ts;
                     let y = amp * (w * t).sin();
                     v.set_real(vr::<M>("y"), y);
-                    model.do_step(&mut v, t, p.ts, &mut NoLog).unwrap();
+                    model.do_step(&mut v, t, p.ts, &mut Quiet).unwrap();
                     assert!(!v.boolean(vr::<M>("saturated")));
                     if k >= n - keep {
                         ys.push(y);
@@ -153,7 +153,7 @@ fn frequency_response_through_the_fmi_calls() {
                 eprintln!("{s:?}/{m:?} {f} Hz: FMU vs frequency_response: {mag:.2e} rel, {ph:.3} deg");
                 assert!(mag < 0.01 && ph < 1.0, "{s:?}/{m:?} {f} Hz: {mag} rel, {ph} deg");
             }
-            model.do_step(&mut v, 0.0, p.ts, &mut NoLog).unwrap();
+            model.do_step(&mut v, 0.0, p.ts, &mut Quiet).unwrap();
         }
     }
 }
@@ -172,9 +172,9 @@ fn long_steps_hold_the_input() {
         let y = 1e-7 * (j as f64 * 0.7).sin();
         v1.set_real(vr::<M>("y"), y);
         v2.set_real(vr::<M>("y"), y);
-        a.do_step(&mut v1, j as f64 * h, h, &mut NoLog).unwrap();
+        a.do_step(&mut v1, j as f64 * h, h, &mut Quiet).unwrap();
         for i in 0..10 {
-            b.do_step(&mut v2, j as f64 * h + i as f64 * ts, ts, &mut NoLog).unwrap();
+            b.do_step(&mut v2, j as f64 * h + i as f64 * ts, ts, &mut Quiet).unwrap();
         }
         assert!((v1.real(vr::<M>("u")) - v2.real(vr::<M>("u"))).abs() <= 1e-12 * v2.real(vr::<M>("u")).abs().max(1e-9));
     }
@@ -183,7 +183,7 @@ fn long_steps_hold_the_input() {
     let mut m = ChatterController::initialize(&v, &Environment::default()).unwrap();
     let mut c = Controller::new(m.params()).unwrap();
     v.set_real(vr::<M>("y"), 1e-6);
-    m.do_step(&mut v, 0.0, 2.5 * ts, &mut NoLog).unwrap();
+    m.do_step(&mut v, 0.0, 2.5 * ts, &mut Quiet).unwrap();
     let mut u = 0.0;
     for _ in 0..3 {
         u = c.sample(1e-6, 0.0).u;
@@ -202,8 +202,8 @@ fn a_jump_in_time_is_not_caught_up() {
         let mut m = ChatterController::initialize(&v, &Environment::default()).unwrap();
         let ts = m.params().ts;
         v.set_real(vr::<M>("y"), 1e-6);
-        m.do_step(&mut v, 0.0, ts, &mut NoLog).unwrap();
-        m.do_step(&mut v, t1 * ts, ts, &mut NoLog).unwrap();
+        m.do_step(&mut v, 0.0, ts, &mut Quiet).unwrap();
+        m.do_step(&mut v, t1 * ts, ts, &mut Quiet).unwrap();
         v.real(vr::<M>("u"))
     };
     let v = values(Structure::Pid, FractionalMethod::GrunwaldLetnikov);
@@ -225,7 +225,7 @@ fn fmu_state_round_trip() {
         let ts = a.params().ts;
         for k in 0..500 {
             v.set_real(vr::<M>("y"), 1e-7 * (k as f64 * 0.01).sin());
-            a.do_step(&mut v, k as f64 * ts, ts, &mut NoLog).unwrap();
+            a.do_step(&mut v, k as f64 * ts, ts, &mut Quiet).unwrap();
         }
         let bytes = postcard::to_allocvec(&a).unwrap();
         let mut b: ChatterController = postcard::from_bytes(&bytes).unwrap();
@@ -234,8 +234,8 @@ fn fmu_state_round_trip() {
             let y = 1e-7 * (k as f64 * 0.01).sin();
             v.set_real(vr::<M>("y"), y);
             v2.set_real(vr::<M>("y"), y);
-            a.do_step(&mut v, k as f64 * ts, ts, &mut NoLog).unwrap();
-            b.do_step(&mut v2, k as f64 * ts, ts, &mut NoLog).unwrap();
+            a.do_step(&mut v, k as f64 * ts, ts, &mut Quiet).unwrap();
+            b.do_step(&mut v2, k as f64 * ts, ts, &mut Quiet).unwrap();
             assert_eq!(v.real(vr::<M>("u")).to_bits(), v2.real(vr::<M>("u")).to_bits());
         }
     }
@@ -254,7 +254,7 @@ fn off_gives_zero_command() {
     let mut v = values(Structure::Off, FractionalMethod::GrunwaldLetnikov);
     let mut m = ChatterController::initialize(&v, &Environment::default()).unwrap();
     v.set_real(vr::<M>("y"), 1e-3);
-    m.do_step(&mut v, 0.0, 1e-3, &mut NoLog).unwrap();
+    m.do_step(&mut v, 0.0, 1e-3, &mut Quiet).unwrap();
     assert!(v.real(vr::<M>("u")).abs() < f64::MIN_POSITIVE && !v.boolean(vr::<M>("saturated")));
     assert!((v.real(vr::<M>("e")) + 1e-3).abs() < 1e-15);
 }
