@@ -23,9 +23,8 @@
 //! clock are all in the serialized FMU state.
 
 use afrac_control::{Afrac, AfracError, AfracOutputs, AfracParams};
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 
@@ -109,9 +108,11 @@ pub static TABLE: LazyLock<Table<AfracParams, AfracInputs, AfracOutputs>> = Lazy
     .work_bound("Ts", 1.0)
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &AfracParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: AfracController,
+    table: TABLE as Table<AfracParams, AfracInputs, AfracOutputs>,
+    parameters: |m| m.ctrl.params(),
+    input_errors: AfracError::Input,
 }
 
 /// The FMU model: the controller core with the time of its first sample.
@@ -140,9 +141,7 @@ impl AfracController {
 
 impl Fmi2Model for AfracController {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> =
-            LazyLock::new(|| TABLE.model_description(&AfracParams::default()).expect("valid AfracController table"));
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -171,10 +170,7 @@ impl Fmi2Model for AfracController {
         for _ in 0..due.round().max(0.0) as u64 {
             if let Err(e) = self.ctrl.sample(x, vel) {
                 self.ctrl = saved;
-                return Err(match e {
-                    AfracError::Input(_) => StepError::Discard(e.to_string()),
-                    e => StepError::Error(e.to_string()),
-                });
+                return Err(Self::step_error(e));
             }
         }
         self.t_start.get_or_insert(t);
@@ -192,53 +188,5 @@ impl Fmi2Model for AfracController {
             return Err("the start time is not finite".into());
         }
         self.ctrl.validate_state()
-    }
-}
-
-impl TableModel for AfracController {
-    type Params = AfracParams;
-    type Inputs = AfracInputs;
-    type Outputs = AfracOutputs;
-    fn table() -> &'static Table<AfracParams, AfracInputs, AfracOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &AfracParams {
-        self.ctrl.params()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use afrac_control::Schedule;
-    use fmi2_export::table::checks;
-
-    #[test]
-    fn the_xml_holds_exactly_the_table() {
-        checks::description_matches_table::<AfracController>().unwrap();
-    }
-
-    #[test]
-    fn every_parameter_set_through_the_api_reaches_the_core() {
-        checks::parameter_round_trips::<AfracController>(&[]).unwrap();
-    }
-
-    #[test]
-    fn assignments_round_trip_and_cover_every_field() {
-        checks::assignments_round_trip::<AfracController>(&AfracParams::default()).unwrap();
-        let p = AfracParams { schedule: Schedule::fixed(1.5), bumpless: true, depth: 4.5, ..Default::default() };
-        checks::assignments_round_trip::<AfracController>(&p).unwrap();
-        checks::parameter_coverage::<AfracController>().unwrap();
-    }
-
-    #[test]
-    fn start_values_give_the_default_parameters() {
-        let v = Values::from_description(AfracController::description());
-        assert_eq!(TABLE.read_parameters(&v).unwrap(), AfracParams::default());
-    }
-
-    #[test]
-    fn the_declared_work_bound_is_the_cores_cost() {
-        assert_eq!(checks::work_bound_matches_internal_steps::<AfracController>(), Ok(true));
     }
 }

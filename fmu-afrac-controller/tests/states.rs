@@ -1,35 +1,38 @@
-//! The controller FMU through the instance state machine: bitwise equal to the core, the
-//! convolution memory and the fractional integrators survive get/set and serialize/deserialize
-//! FMU state bitwise, bad inputs and corrupted states are refused with a message.
+//! The controller FMU: the shared adapter checks, and through the instance state machine:
+//! bitwise equal to the core, the convolution memory and the fractional integrators survive
+//! get/set and serialize/deserialize FMU state bitwise, bad inputs and corrupted states are
+//! refused with a message.
 
-use afrac_control::{Afrac, AfracParams};
-use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink, Snapshot};
-use fmi2_export::table::checks;
-use fmi2_export::{Environment, Fmi2Model};
+use afrac_control::{Afrac, AfracParams, Schedule};
+use fmi2_export::instance::{CallError, Instance, Snapshot};
+use fmi2_export::table::checks::{self, initializing, ready_with, real, set_real, vr};
 use fmu_afrac_controller::AfracController;
 use model_description::{ScalarType, Value};
 use std::f64::consts::PI;
 
-struct NoLog;
-impl LogSink for NoLog {
-    fn emit(&mut self, _level: LogLevel, _category: &str, _message: &str) {}
-}
-
-fn vr(name: &str) -> u32 {
-    AfracController::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
-}
+type M = AfracController;
 
 const TAU: f64 = 1e-4;
 
+fmi2_export::adapter_tests! {
+    model: M,
+    valid: [],
+    params: [AfracParams { schedule: Schedule::fixed(1.5), bumpless: true, depth: 4.5, ..Default::default() }],
+    work: Work::Bound("Ts"),
+    step: TAU,
+    states: { stepped: driven(700), fresh: fresh, seed: 0xafac_0001_5eed_u64, tries: 400 },
+}
+
 /// An initialized instance; `bumpless` set through the API (the switches of Table 5 at 0.6935 s
 /// and later are inside the runs below when `t1` is moved to 0.05 s).
-fn fresh() -> Instance<AfracController> {
-    let mut inst = Instance::<AfracController>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("t1")], &[Value::Real(0.05)]).unwrap();
-    inst.set("fmi2SetBoolean", ScalarType::Boolean, &[vr("bumpless")], &[Value::Boolean(true)]).unwrap();
-    inst.exit_initialization().unwrap();
+fn fresh() -> Instance<M> {
+    ready_with::<M>(&[("t1", Value::Real(0.05)), ("bumpless", Value::Boolean(true))])
+}
+
+/// A fresh instance after `steps` steps of [`drive`].
+fn driven(steps: usize) -> Instance<M> {
+    let mut inst = fresh();
+    drive(&mut inst, 0, steps);
     inst
 }
 
@@ -47,31 +50,18 @@ fn measurement(k: usize) -> (f64, f64) {
     (a * (w * t).sin(), a * (g * (w * t).sin() + w * (w * t).cos()))
 }
 
-fn set(inst: &mut Instance<AfracController>, name: &str, x: f64) {
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(x)]).unwrap();
-}
-
-fn real(inst: &mut Instance<AfracController>, name: &str) -> f64 {
-    let mut out = Vec::new();
-    inst.get("fmi2GetReal", ScalarType::Real, &[vr(name)], &mut out).unwrap();
-    match out[0] {
-        Value::Real(x) => x,
-        ref v => panic!("{v:?}"),
-    }
-}
-
-fn drive(inst: &mut Instance<AfracController>, from: usize, to: usize) {
+fn drive(inst: &mut Instance<M>, from: usize, to: usize) {
     for k in from..to {
         let (x, v) = measurement(k);
-        set(inst, "x", x);
-        set(inst, "v", v);
+        set_real(inst, "x", x);
+        set_real(inst, "v", v);
         inst.do_step(k as f64 * TAU, TAU).unwrap();
     }
 }
 
 const WATCH: [&str; 8] = ["spindle_speed", "feed", "beta", "eps1", "eps2", "h", "delta_feed", "G"];
 
-fn watched(inst: &mut Instance<AfracController>) -> Vec<u64> {
+fn watched(inst: &mut Instance<M>) -> Vec<u64> {
     WATCH.iter().map(|n| real(inst, n).to_bits()).collect()
 }
 
@@ -106,15 +96,15 @@ fn memory_and_fractional_integrators_survive_get_set_and_serialize_bitwise() {
     assert_eq!(watched(&mut a), end);
     // serialize/deserialize into a fresh instance
     let mut b = fresh();
-    b.restore(&Snapshot::<AfracController>::deserialize(&bytes).unwrap());
+    b.restore(&Snapshot::<M>::deserialize(&bytes).unwrap());
     drive(&mut b, 600, 1500);
     assert_eq!(watched(&mut b), end);
     // a fresh instance that did not get the state goes elsewhere: the state carries the memory
     let mut c = fresh();
     for (j, k) in (600..1500).enumerate() {
         let (x, v) = measurement(k);
-        set(&mut c, "x", x);
-        set(&mut c, "v", v);
+        set_real(&mut c, "x", x);
+        set_real(&mut c, "v", v);
         c.do_step(j as f64 * TAU, TAU).unwrap();
     }
     assert_ne!(watched(&mut c), end);
@@ -127,8 +117,8 @@ fn several_samples_per_step_and_steps_without_a_sample() {
     let mut core = Afrac::new(&params()).unwrap();
     for j in 0..50 {
         let (x, v) = measurement(10 * j);
-        set(&mut inst, "x", x);
-        set(&mut inst, "v", v);
+        set_real(&mut inst, "x", x);
+        set_real(&mut inst, "v", v);
         inst.do_step(j as f64 * 10.0 * TAU, 10.0 * TAU).unwrap();
         for _ in 0..10 {
             core.sample(x, v).unwrap();
@@ -140,7 +130,7 @@ fn several_samples_per_step_and_steps_without_a_sample() {
     drive(&mut inst, 0, 300);
     let held = watched(&mut inst);
     let n = inst.model().unwrap().controller().next_sample_time();
-    set(&mut inst, "x", 1e-3);
+    set_real(&mut inst, "x", 1e-3);
     inst.do_step(300.0 * TAU, 0.5 * TAU).unwrap();
     let first = watched(&mut inst);
     assert_ne!(first, held);
@@ -151,30 +141,18 @@ fn several_samples_per_step_and_steps_without_a_sample() {
 
 #[test]
 fn bad_inputs_are_refused_and_corrupted_states_never_panic() {
-    checks::non_finite_inputs_are_refused::<AfracController>(TAU).unwrap();
     let mut inst = fresh();
     for x in [f64::NAN, f64::INFINITY, 2e5] {
-        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr("x")], &[Value::Real(x)]).unwrap_err();
+        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("x")], &[Value::Real(x)]).unwrap_err();
         let (CallError::Error(m) | CallError::Discard(m)) = e;
         assert!(m.contains('x'), "{m}");
     }
     // a reference speed at which the reference model is unstable: refused at initialization
-    let mut bad = Instance::<AfracController>::new(Environment::default(), false, Box::new(NoLog));
-    bad.setup_experiment(0.0, None).unwrap();
-    bad.enter_initialization().unwrap();
-    bad.set("fmi2SetReal", ScalarType::Real, &[vr("reference_speed")], &[Value::Real(450.0)]).unwrap();
+    let mut bad = initializing::<M>();
+    set_real(&mut bad, "reference_speed", 450.0);
     let CallError::Error(m) = bad.exit_initialization().unwrap_err() else { panic!("expected fmi2Error") };
     assert!(m.contains("design"), "{m}");
-    let mut a = fresh();
-    drive(&mut a, 0, 700);
-    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<AfracController>(
-        &a.snapshot().serialize().unwrap(),
-        0xafac_0001_5eed_u64,
-        400,
-        fresh,
-        TAU,
-    );
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
-    let (refused, loaded) = checks::corrupted_states_after_steps::<AfracController>(1e-5, 300, TAU, 7, 200);
+    // (the state after 700 steps of `drive`: the shared checks; here after constant inputs)
+    let (refused, loaded) = checks::corrupted_states_after_steps::<M>(1e-5, 300, TAU, 7, 200);
     println!("after constant inputs: {refused} refused, {loaded} loaded");
 }

@@ -19,9 +19,8 @@
 //! Before the first step the outputs are zero.
 
 use chatter_control::{Controller, ControllerOutput, ControllerParams};
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, Severity, StepError, Table, Values};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 
@@ -93,11 +92,10 @@ pub static TABLE: LazyLock<Table<ControllerParams, ControllerInputs, ControllerO
     .work_bound("Ts", 1.0)
 });
 
-/// The FMU's parameters (and the `structure` enumeration) holding `p`, as (variable name, value)
-/// pairs: what a master sets (`--set controller.NAME=VALUE`, SSP parameter bindings) to run the
-/// FMU with `p`. Generated from the same table as `modelDescription.xml`.
-pub fn parameter_assignments(p: &ControllerParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: ChatterController,
+    table: TABLE as Table<ControllerParams, ControllerInputs, ControllerOutput>,
+    parameters: |m| m.ctrl.params(),
 }
 
 /// The FMU model: a [`Controller`] plus its sample clock.
@@ -120,10 +118,7 @@ impl ChatterController {
 
 impl Fmi2Model for ChatterController {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> = LazyLock::new(|| {
-            TABLE.model_description(&ControllerParams::default()).expect("valid ChatterController table")
-        });
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -189,40 +184,5 @@ impl Fmi2Model for ChatterController {
             return Err("the last outputs are not finite".into());
         }
         Ok(())
-    }
-}
-
-impl TableModel for ChatterController {
-    type Params = ControllerParams;
-    type Inputs = ControllerInputs;
-    type Outputs = ControllerOutput;
-    fn table() -> &'static Table<ControllerParams, ControllerInputs, ControllerOutput> {
-        &TABLE
-    }
-    fn parameters(&self) -> &ControllerParams {
-        self.ctrl.params()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use fmi2_export::table::checks;
-
-    #[test]
-    fn the_xml_holds_exactly_the_table() {
-        checks::description_matches_table::<ChatterController>().unwrap();
-    }
-
-    #[test]
-    fn every_parameter_set_through_the_api_reaches_the_core() {
-        checks::parameter_round_trips::<ChatterController>(&[]).unwrap();
-    }
-
-    #[test]
-    fn assignments_round_trip_and_cover_every_field() {
-        checks::assignments_round_trip::<ChatterController>(&ControllerParams::default()).unwrap();
-        checks::assignments_round_trip::<ChatterController>(&ControllerParams::paper_table2()).unwrap();
-        checks::parameter_coverage::<ChatterController>().unwrap();
     }
 }

@@ -1,31 +1,29 @@
-//! Restored FMU states of the controller are validated: a corrupted sample period, buffer or
-//! gain is `fmi2Error` with a message, never a hang or a panic on the next step.
+//! The controller's shared adapter checks; restored FMU states of the controller are
+//! validated: a corrupted sample period, buffer or gain is `fmi2Error` with a message, never a
+//! hang or a panic on the next step.
 
-use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink, Snapshot};
-use fmi2_export::table::checks::{self, reseal};
-use fmi2_export::{Environment, Fmi2Model};
+use chatter_control::ControllerParams;
+use fmi2_export::instance::{CallError, Instance, Snapshot};
+use fmi2_export::table::checks::{ready_with, reseal, set_real};
 use fmu_controller::ChatterController;
-use model_description::{ScalarType, Value};
+use model_description::Value;
 
-struct NoLog;
-impl LogSink for NoLog {
-    fn emit(&mut self, _level: LogLevel, _category: &str, _message: &str) {}
-}
+type M = ChatterController;
 
-fn vr(name: &str) -> u32 {
-    ChatterController::description().variable(name).unwrap().value_reference
+fmi2_export::adapter_tests! {
+    model: M,
+    valid: [],
+    params: [ControllerParams::paper_table2()],
+    work: Work::Bound("Ts"),
+    step: 1e-4,
+    states: { stepped: stepped(), fresh: stepped, seed: 0x9e37_79b9_7f4a_7c15_u64, tries: 2000 },
 }
 
 /// An ADRC-FOPID (Grünwald–Letnikov) instance after 50 steps with a moving input.
-fn stepped() -> Instance<ChatterController> {
-    let mut inst = Instance::<ChatterController>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.set("fmi2SetInteger", ScalarType::Integer, &[vr("structure")], &[Value::Integer(3)]).unwrap();
-    inst.exit_initialization().unwrap();
+fn stepped() -> Instance<M> {
+    let mut inst = ready_with::<M>(&[("structure", Value::Integer(3))]);
     for k in 0..50 {
-        let y = 1e-5 * (k as f64 * 0.3).sin();
-        inst.set("fmi2SetReal", ScalarType::Real, &[vr("y")], &[Value::Real(y)]).unwrap();
+        set_real(&mut inst, "y", 1e-5 * (k as f64 * 0.3).sin());
         inst.do_step(k as f64 * 1e-4, 1e-4).unwrap();
     }
     inst
@@ -48,16 +46,4 @@ fn a_valid_state_loads_and_a_zero_sample_period_is_refused() {
             other => panic!("ts = 0 at byte {at} accepted: {}", other.is_ok()),
         }
     }
-}
-
-#[test]
-fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<ChatterController>(
-        &stepped().snapshot().serialize().unwrap(),
-        0x9e37_79b9_7f4a_7c15_u64,
-        2000,
-        stepped,
-        1e-4,
-    );
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }

@@ -22,10 +22,9 @@
 //! The RLS estimate, its covariance, the RST controller, the past signals, the hold and the
 //! reference model's state are all in the serialized FMU state.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
 use froh_mrac::{ForceError, FrohMrac, MracOutputs, MracParams};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 
@@ -88,11 +87,16 @@ pub static TABLE: LazyLock<Table<MracParams, MracInputs, MracOutputs>> = LazyLoc
             }
         },
     )
+    // what a step costs, as `internal_steps` counts it (two per sample period): for masters, in
+    // modelDescription.xml, counted in sample periods
+    .work_bound_scaled("Ts", 2.0, 2.0)
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &MracParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: FrohMracController,
+    table: TABLE as Table<MracParams, MracInputs, MracOutputs>,
+    parameters: |m| m.ctrl.params(),
+    input_errors: ForceError::Input,
 }
 
 /// The FMU model: the controller core with its clock.
@@ -110,9 +114,7 @@ impl FrohMracController {
 
 impl Fmi2Model for FrohMracController {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> =
-            LazyLock::new(|| TABLE.model_description(&MracParams::default()).expect("valid FrohMracController table"));
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -135,56 +137,18 @@ impl Fmi2Model for FrohMracController {
             }
             Err(e) => {
                 self.ctrl = saved;
-                Err(match e {
-                    ForceError::Input(_) => StepError::Discard(e.to_string()),
-                    e => StepError::Error(e.to_string()),
-                })
+                Err(Self::step_error(e))
             }
         }
     }
 
-    /// One sample per sample period in the step, plus the pieces between them.
+    /// One sample per sample period in the step, plus the pieces between them: the work bound of
+    /// the table.
     fn internal_steps(&self, h: f64) -> f64 {
         2.0 * h / self.ctrl.params().sample_period + 2.0
     }
 
     fn validate_state(&self) -> Result<(), String> {
         self.ctrl.validate_state()
-    }
-}
-
-impl TableModel for FrohMracController {
-    type Params = MracParams;
-    type Inputs = MracInputs;
-    type Outputs = MracOutputs;
-    fn table() -> &'static Table<MracParams, MracInputs, MracOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &MracParams {
-        self.ctrl.params()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use fmi2_export::table::checks;
-
-    #[test]
-    fn the_xml_holds_exactly_the_table() {
-        checks::description_matches_table::<FrohMracController>().unwrap();
-    }
-
-    #[test]
-    fn every_parameter_set_through_the_api_reaches_the_core() {
-        checks::parameter_round_trips::<FrohMracController>(&[]).unwrap();
-    }
-
-    #[test]
-    fn assignments_round_trip_and_cover_every_field() {
-        checks::assignments_round_trip::<FrohMracController>(&MracParams::default()).unwrap();
-        let p = MracParams { beta: 0.4, adapt: false, lambda: 1.0, ..Default::default() };
-        checks::assignments_round_trip::<FrohMracController>(&p).unwrap();
-        checks::parameter_coverage::<FrohMracController>().unwrap();
     }
 }

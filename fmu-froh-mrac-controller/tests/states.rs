@@ -1,55 +1,50 @@
-//! The controller FMU through the instance state machine: the RLS estimate and every other part
-//! of the state survive get/set and serialize/deserialize FMU state bitwise; bad inputs and
-//! corrupted states are refused with a message.
+//! The controller FMU: the shared adapter checks, and through the instance state machine: the
+//! RLS estimate and every other part of the state survive get/set and serialize/deserialize FMU
+//! state bitwise; bad inputs and corrupted states are refused with a message.
 
-use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink, Snapshot};
-use fmi2_export::table::checks::{self, reseal};
-use fmi2_export::{Environment, Fmi2Model};
+use fmi2_export::instance::{CallError, Instance, Snapshot};
+use fmi2_export::table::checks::{initializing, ready_with, real, reseal, set_real, vr};
 use fmu_froh_mrac_controller::FrohMracController;
+use froh_mrac::MracParams;
 use model_description::{ScalarType, Value};
 
-struct NoLog;
-impl LogSink for NoLog {
-    fn emit(&mut self, _level: LogLevel, _category: &str, _message: &str) {}
-}
-
-fn vr(name: &str) -> u32 {
-    FrohMracController::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
-}
+type M = FrohMracController;
 
 const H: f64 = 60.0 / 715.0 / 4.0;
 
-fn fresh() -> Instance<FrohMracController> {
-    let mut inst = Instance::<FrohMracController>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("beta")], &[Value::Real(0.4)]).unwrap();
-    inst.exit_initialization().unwrap();
-    inst
+fmi2_export::adapter_tests! {
+    model: M,
+    valid: [],
+    params: [MracParams { beta: 0.4, adapt: false, lambda: 1.0, ..Default::default() }],
+    work: Work::Bound("Ts"),
+    step: H,
+    states: { stepped: learned(30), fresh: fresh, seed: 0x51_7cc1_b727_220a_u64, tries: 2000 },
+}
+
+fn fresh() -> Instance<M> {
+    ready_with::<M>(&[("beta", Value::Real(0.4))])
 }
 
 /// A toy first-order force response to the command, so that the RLS has something to learn.
-fn run(inst: &mut Instance<FrohMracController>, from: usize, to: usize, force: &mut f64) {
+fn run(inst: &mut Instance<M>, from: usize, to: usize, force: &mut f64) {
     for j in from..to {
-        inst.set("fmi2SetReal", ScalarType::Real, &[vr("F_p")], &[Value::Real(*force)]).unwrap();
+        set_real(inst, "F_p", *force);
         inst.do_step(j as f64 * H, H).unwrap();
         let fc = real(inst, "f_c");
         *force += 0.6 * (50.0 * fc - *force);
     }
 }
 
-fn real(inst: &mut Instance<FrohMracController>, name: &str) -> f64 {
-    let mut out = Vec::new();
-    inst.get("fmi2GetReal", ScalarType::Real, &[vr(name)], &mut out).unwrap();
-    match out[0] {
-        Value::Real(x) => x,
-        ref v => panic!("{v:?}"),
-    }
+/// A fresh instance after `steps` steps of [`run`] from zero force.
+fn learned(steps: usize) -> Instance<M> {
+    let mut inst = fresh();
+    run(&mut inst, 0, steps, &mut 0.0);
+    inst
 }
 
 const WATCH: [&str; 8] = ["f_c", "f_c_rate", "f_hold", "u_k", "F_m", "a_hat", "b0_hat", "b1_hat"];
 
-fn watched(inst: &mut Instance<FrohMracController>) -> Vec<u64> {
+fn watched(inst: &mut Instance<M>) -> Vec<u64> {
     WATCH.iter().map(|n| real(inst, n).to_bits()).collect()
 }
 
@@ -79,7 +74,7 @@ fn rls_estimates_and_state_survive_get_set_and_serialize_bitwise() {
     assert_eq!(a.model().unwrap().controller().rls(), &rls_a);
     // serialize/deserialize into a fresh instance
     let mut c = fresh();
-    c.restore(&Snapshot::<FrohMracController>::deserialize(&bytes).unwrap());
+    c.restore(&Snapshot::<M>::deserialize(&bytes).unwrap());
     let mut fc = f0;
     run(&mut c, 37, 80, &mut fc);
     assert_eq!(watched(&mut c), end_a);
@@ -93,17 +88,15 @@ fn rls_estimates_and_state_survive_get_set_and_serialize_bitwise() {
 fn out_of_range_inputs_are_refused_with_a_message() {
     let mut inst = fresh();
     for x in [f64::NAN, f64::INFINITY, 2e9] {
-        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr("F_p")], &[Value::Real(x)]).unwrap_err();
+        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("F_p")], &[Value::Real(x)]).unwrap_err();
         let (CallError::Error(m) | CallError::Discard(m)) = e;
         assert!(m.contains("F_p"), "{m}");
     }
     // a parameter outside its range is refused before initialization ends
-    let mut inst = Instance::<FrohMracController>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    assert!(inst.set("fmi2SetReal", ScalarType::Real, &[vr("beta")], &[Value::Real(1.5)]).is_err());
+    let mut inst = initializing::<M>();
+    assert!(inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("beta")], &[Value::Real(1.5)]).is_err());
     // β = −0.9 puts the initial model's zero outside the unit circle: the design is refused
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("beta")], &[Value::Real(-0.9)]).unwrap();
+    inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("beta")], &[Value::Real(-0.9)]).unwrap();
     let CallError::Error(m) = inst.exit_initialization().unwrap_err() else { panic!("expected fmi2Error") };
     assert!(m.contains("not stable"), "{m}");
 }
@@ -121,24 +114,9 @@ fn a_restored_state_with_a_bad_forgetting_factor_is_refused() {
         let mut bad = bytes.clone();
         bad[at..at + 8].copy_from_slice(&1.5f64.to_le_bytes());
         reseal(&mut bad);
-        match Snapshot::<FrohMracController>::deserialize(&bad) {
+        match Snapshot::<M>::deserialize(&bad) {
             Err(CallError::Error(m)) => assert!(m.contains("invalid state"), "{m}"),
             other => panic!("lambda = 1.5 at byte {at} accepted: {}", other.is_ok()),
         }
     }
-}
-
-#[test]
-fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let mut inst = fresh();
-    let mut force = 0.0;
-    run(&mut inst, 0, 30, &mut force);
-    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<FrohMracController>(
-        &inst.snapshot().serialize().unwrap(),
-        0x51_7cc1_b727_220a_u64,
-        2000,
-        fresh,
-        H,
-    );
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }

@@ -5,10 +5,9 @@
 //! the state at `t + h` with the command held over the step (the feedthrough `D u` uses that
 //! command); no output depends directly on an input.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, Severity, StepError, Table, Values};
 use machine_structure::actuator::{ActuatorError, ActuatorOutputs, ActuatorParams};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 
@@ -57,11 +56,15 @@ pub static TABLE: LazyLock<Table<ActuatorParams, ActuatorInputs, ActuatorOutputs
             }
         },
     )
+    // what a step costs, as `internal_steps` counts it: for masters, in modelDescription.xml
+    .work_bound("internal_step", 1.0)
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &ActuatorParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: InertialActuator,
+    table: TABLE as Table<ActuatorParams, ActuatorInputs, ActuatorOutputs>,
+    parameters: |m| m.actuator.params(),
+    input_errors: ActuatorError::Input,
 }
 
 /// The FMU model: the actuator core and what it has reported.
@@ -73,10 +76,7 @@ pub struct InertialActuator {
 
 impl Fmi2Model for InertialActuator {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> = LazyLock::new(|| {
-            TABLE.model_description(&ActuatorParams::default()).expect("valid InertialActuator table")
-        });
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -92,11 +92,7 @@ impl Fmi2Model for InertialActuator {
 
     fn do_step(&mut self, v: &mut Values, t: f64, h: f64, log: &mut dyn ModelLog) -> Result<(), StepError> {
         let u = TABLE.read_inputs(v).map_err(StepError::Error)?.u;
-        match self.actuator.step(h, u) {
-            Ok(()) => {}
-            Err(e @ ActuatorError::Input(_)) => return Err(StepError::Discard(e.to_string())),
-            Err(e) => return Err(StepError::Error(e.to_string())),
-        }
+        self.actuator.step(h, u).map_err(Self::step_error)?;
         let o = self.actuator.outputs();
         if o.saturated && !self.reported_saturation {
             self.reported_saturation = true;
@@ -109,23 +105,14 @@ impl Fmi2Model for InertialActuator {
         Ok(())
     }
 
+    /// `⌈h/internal_step⌉ ≤ h/internal_step + 1` RK4 sub-steps: the work bound of the table.
+    /// (The core counts `⌈h/internal_step⌉ + 1`; with the layer's integer limit both refuse the
+    /// same steps, and only this one is a bound a master can evaluate.)
     fn internal_steps(&self, h: f64) -> f64 {
-        self.actuator.internal_steps(h)
+        h / self.actuator.params().internal_step + 1.0
     }
 
     fn validate_state(&self) -> Result<(), String> {
         self.actuator.validate_state()
-    }
-}
-
-impl TableModel for InertialActuator {
-    type Params = ActuatorParams;
-    type Inputs = ActuatorInputs;
-    type Outputs = ActuatorOutputs;
-    fn table() -> &'static Table<ActuatorParams, ActuatorInputs, ActuatorOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &ActuatorParams {
-        self.actuator.params()
     }
 }

@@ -6,10 +6,9 @@
 //! `Dc[i,j]` (1-based). [`frequency_response`] evaluates the response of the FMU's own model
 //! (the core built from the same parameters).
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
 use linear_control::{ControlError, ControlInputs, ControlOutputs, LinearControlParams};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
@@ -157,9 +156,11 @@ pub static TABLE: LazyLock<Table<LinearControlParams, ControlInputs, ControlOutp
     .work_bound("sample_period", 1.0)
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &LinearControlParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: LinearController,
+    table: TABLE as Table<LinearControlParams, ControlInputs, ControlOutputs>,
+    parameters: |m| m.ctrl.params(),
+    input_errors: ControlError::Input,
 }
 
 /// The response `F/V` (2 × 2) at `omega` [rad/s] with delay `tau` of the controller the FMU
@@ -184,10 +185,7 @@ impl LinearController {
 
 impl Fmi2Model for LinearController {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> = LazyLock::new(|| {
-            TABLE.model_description(&LinearControlParams::default()).expect("valid LinearController table")
-        });
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -202,11 +200,7 @@ impl Fmi2Model for LinearController {
 
     fn do_step(&mut self, v: &mut Values, t: f64, h: f64, _log: &mut dyn ModelLog) -> Result<(), StepError> {
         let inputs = TABLE.read_inputs(v).map_err(StepError::Error)?;
-        match self.ctrl.step(t, h, &inputs) {
-            Ok(()) => {}
-            Err(e @ ControlError::Input(_)) => return Err(StepError::Discard(e.to_string())),
-            Err(e) => return Err(StepError::Error(e.to_string())),
-        }
+        self.ctrl.step(t, h, &inputs).map_err(Self::step_error)?;
         TABLE.write_outputs(&self.ctrl.outputs(), v);
         Ok(())
     }
@@ -217,17 +211,5 @@ impl Fmi2Model for LinearController {
 
     fn validate_state(&self) -> Result<(), String> {
         self.ctrl.validate_state()
-    }
-}
-
-impl TableModel for LinearController {
-    type Params = LinearControlParams;
-    type Inputs = ControlInputs;
-    type Outputs = ControlOutputs;
-    fn table() -> &'static Table<LinearControlParams, ControlInputs, ControlOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &LinearControlParams {
-        self.ctrl.params()
     }
 }

@@ -1,58 +1,39 @@
-//! The LinearController adapter: its table, round trips, refusals, restored states, the work
-//! bound, and the frequency response through the FMU's own stepping.
+//! The LinearController adapter: the shared adapter checks, the names the synthesis writes, and
+//! the frequency response through the FMU's own stepping.
 
-use fmi2_export::instance::{Instance, LogLevel, LogSink};
-use fmi2_export::table::checks;
-use fmi2_export::{Environment, Fmi2Model};
+use fmi2_export::table::checks::{initializing, ready, set, stepped, vr};
 use fmu_linear_controller::LinearController;
 use linear_control::LinearControlParams;
 use model_description::{ScalarType, Value};
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
-struct Quiet;
-impl LogSink for Quiet {
-    fn emit(&mut self, _level: LogLevel, _category: &str, _message: &str) {}
-}
+type M = LinearController;
 
-fn vr(name: &str) -> u32 {
-    LinearController::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
+fmi2_export::adapter_tests! {
+    model: M,
+    valid: [],
+    params: [{
+        let mut p = LinearControlParams { n_c: 3, discrete: true, ..Default::default() };
+        p.ac[2][1] = -5.0;
+        p.dc[1][0] = 1071.058e3;
+        p
+    }],
+    work: Work::Bound("sample_period"),
+    step: 1e-6,
+    states: {
+        stepped: stepped::<M>(40_000.0, 200, 1e-6),
+        fresh: ready::<M>,
+        seed: 0x11ea_c0de_0002_1313,
+        tries: 1000,
+    },
 }
 
 #[test]
-fn the_xml_holds_exactly_the_table() {
-    checks::description_matches_table::<LinearController>().unwrap();
-    assert!(checks::work_bound_matches_internal_steps::<LinearController>().unwrap());
-    // the names the synthesis writes
+fn the_names_the_synthesis_writes_are_variables() {
     for n in ["Ac[1,2]", "Ac[8,8]", "Bc[3,2]", "Cc[2,8]", "Dc[1,1]", "Dc[2,2]", "beta", "n_c"] {
-        vr(n);
+        vr::<M>(n);
     }
-}
-
-#[test]
-fn non_finite_inputs_are_refused_with_a_message() {
-    checks::non_finite_inputs_are_refused::<LinearController>(1e-6).unwrap();
-}
-
-#[test]
-fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let (refused, loaded) =
-        checks::corrupted_states_after_steps::<LinearController>(40_000.0, 200, 1e-6, 0x11ea_c0de_0002_1313, 1000);
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
-    assert!(refused > 0);
-}
-
-#[test]
-fn parameters_round_trip_and_cover_every_field() {
-    checks::parameter_round_trips::<LinearController>(&[]).unwrap();
-    let mut p = LinearControlParams::default();
-    checks::assignments_round_trip::<LinearController>(&p).unwrap();
-    p.n_c = 3;
-    p.ac[2][1] = -5.0;
-    p.dc[1][0] = 1071.058e3;
-    p.discrete = true;
-    checks::assignments_round_trip::<LinearController>(&p).unwrap();
-    checks::parameter_coverage::<LinearController>().unwrap();
 }
 
 /// Seed 002's static gain set through the FMU's parameters `Dc[i,j]`, a sine on `v_x` through
@@ -66,16 +47,13 @@ fn the_fmu_steps_reproduce_its_frequency_response() {
     p.cc[1][0] = 5e5;
     // a 1 m sine asks for MN: lift the saturation out of the way
     p.saturation = [1e12; 2];
-    let mut inst = Instance::<LinearController>::new(Environment::default(), false, Box::new(Quiet));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
+    let mut inst = initializing::<M>();
     for (name, value) in fmu_linear_controller::parameter_assignments(&p) {
-        let v = LinearController::description().variable(&name).unwrap();
-        inst.set("fmi2Set", v.scalar_type(), &[v.value_reference], &[value]).unwrap();
+        set(&mut inst, &name, value).unwrap();
     }
     inst.exit_initialization().unwrap();
     let rpm = 37_000.0;
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("spindle_speed")], &[Value::Real(rpm)]).unwrap();
+    inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("spindle_speed")], &[Value::Real(rpm)]).unwrap();
     let tau = 60.0 / (4.0 * rpm);
     let h = 1e-6;
     let freq = 1300.0;
@@ -87,11 +65,11 @@ fn the_fmu_steps_reproduce_its_frequency_response() {
     let mut got = Vec::new();
     for k in 0..n_set + n_fit {
         let t = k as f64 * h;
-        inst.set("fmi2SetReal", ScalarType::Real, &[vr("v_x")], &[Value::Real((w * t).sin())]).unwrap();
+        inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("v_x")], &[Value::Real((w * t).sin())]).unwrap();
         inst.do_step(t, h).unwrap();
         if k >= n_set {
             got.clear();
-            inst.get("fmi2GetReal", ScalarType::Real, &[vr("F_x"), vr("F_y")], &mut got).unwrap();
+            inst.get("fmi2GetReal", ScalarType::Real, &[vr::<M>("F_x"), vr::<M>("F_y")], &mut got).unwrap();
             let (s, c) = (w * t).sin_cos();
             for (i, a) in acc.iter_mut().enumerate() {
                 let Value::Real(f) = got[i] else { panic!("not a Real") };
@@ -103,7 +81,7 @@ fn the_fmu_steps_reproduce_its_frequency_response() {
         }
     }
     got.clear();
-    inst.get("fmi2GetReal", ScalarType::Real, &[vr("tau"), vr("w_x")], &mut got).unwrap();
+    inst.get("fmi2GetReal", ScalarType::Real, &[vr::<M>("tau"), vr::<M>("w_x")], &mut got).unwrap();
     println!("tau {:?} (want {tau}), w_x {:?}", got[0], got[1]);
     let want = fmu_linear_controller::frequency_response(&p, w, tau).unwrap();
     for (i, a) in acc.iter().enumerate() {
@@ -117,8 +95,8 @@ fn the_fmu_steps_reproduce_its_frequency_response() {
 
 #[test]
 fn a_spindle_speed_giving_no_valid_delay_is_discarded() {
-    let mut inst = checks::ready::<LinearController>();
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("spindle_speed")], &[Value::Real(0.0)]).unwrap();
+    let mut inst = ready::<M>();
+    inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("spindle_speed")], &[Value::Real(0.0)]).unwrap();
     let e = inst.do_step(0.0, 1e-6).unwrap_err();
     assert!(format!("{e:?}").contains("spindle_speed"), "{e:?}");
 }

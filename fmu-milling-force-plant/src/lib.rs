@@ -11,10 +11,9 @@
 //! clock is set to `t` before each step). Outputs at `t` are those of the state at `t`; no
 //! output depends directly on an input.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
 use milling_force_plant::{ForceError, ForcePlant, ForcePlantInputs, ForcePlantOutputs, ForcePlantParams};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 
@@ -70,9 +69,11 @@ pub static TABLE: LazyLock<Table<ForcePlantParams, ForcePlantInputs, ForcePlantO
     )
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &ForcePlantParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: MillingForcePlant,
+    table: TABLE as Table<ForcePlantParams, ForcePlantInputs, ForcePlantOutputs>,
+    parameters: |m| m.plant.params(),
+    input_errors: ForceError::Input,
 }
 
 /// The FMU model: the plant core.
@@ -90,10 +91,7 @@ impl MillingForcePlant {
 
 impl Fmi2Model for MillingForcePlant {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> = LazyLock::new(|| {
-            TABLE.model_description(&ForcePlantParams::default()).expect("valid MillingForcePlant table")
-        });
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -110,15 +108,9 @@ impl Fmi2Model for MillingForcePlant {
         let inputs = TABLE.read_inputs(v).map_err(StepError::Error)?;
         let saved = self.plant.clone();
         self.plant.set_time(t);
-        match self.plant.step(h, &inputs) {
-            Ok(()) => {}
-            Err(e) => {
-                self.plant = saved;
-                return Err(match e {
-                    ForceError::Input(_) => StepError::Discard(e.to_string()),
-                    e => StepError::Error(e.to_string()),
-                });
-            }
+        if let Err(e) = self.plant.step(h, &inputs) {
+            self.plant = saved;
+            return Err(Self::step_error(e));
         }
         TABLE.write_outputs(&self.plant.outputs(), v);
         Ok(())
@@ -136,47 +128,3 @@ impl Fmi2Model for MillingForcePlant {
 
 /// A step is cut at most at every depth change: at most 9 pieces.
 const MAX_PIECES: f64 = (milling_force_plant::plant::MAX_SEGMENTS + 1) as f64;
-
-impl TableModel for MillingForcePlant {
-    type Params = ForcePlantParams;
-    type Inputs = ForcePlantInputs;
-    type Outputs = ForcePlantOutputs;
-    fn table() -> &'static Table<ForcePlantParams, ForcePlantInputs, ForcePlantOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &ForcePlantParams {
-        self.plant.params()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use fmi2_export::table::checks;
-
-    #[test]
-    fn the_xml_holds_exactly_the_table() {
-        checks::description_matches_table::<MillingForcePlant>().unwrap();
-    }
-
-    #[test]
-    fn every_parameter_set_through_the_api_reaches_the_core() {
-        checks::parameter_round_trips::<MillingForcePlant>(&[]).unwrap();
-    }
-
-    #[test]
-    fn assignments_round_trip_and_cover_every_field() {
-        checks::assignments_round_trip::<MillingForcePlant>(&ForcePlantParams::default()).unwrap();
-        let mut p = ForcePlantParams { tau_s: 0.0, tau_c: 0.04, ..Default::default() };
-        p.depth.segments = 8;
-        p.depth.b[7] = 0.5;
-        checks::assignments_round_trip::<MillingForcePlant>(&p).unwrap();
-        checks::parameter_coverage::<MillingForcePlant>().unwrap();
-    }
-
-    #[test]
-    fn start_values_give_the_default_parameters() {
-        let v = Values::from_description(MillingForcePlant::description());
-        assert_eq!(TABLE.read_parameters(&v).unwrap(), ForcePlantParams::default());
-    }
-}

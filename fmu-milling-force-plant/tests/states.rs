@@ -1,57 +1,49 @@
-//! The plant FMU through the instance state machine: exact ramp steps, bad inputs, restored
-//! states.
+//! The plant FMU: the shared adapter checks, and through the instance state machine exact ramp
+//! steps, bad inputs, restored states.
 
-use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink, Snapshot};
-use fmi2_export::table::checks::{self, reseal};
-use fmi2_export::{Environment, Fmi2Model};
+use fmi2_export::instance::{CallError, Instance, Snapshot};
+use fmi2_export::table::checks::{initializing, ready, real, reseal, set_real, vr};
 use fmu_milling_force_plant::MillingForcePlant;
 use milling_force_plant::{ForcePlant, ForcePlantInputs, ForcePlantParams};
 use model_description::{ScalarType, Value};
 
-struct NoLog;
-impl LogSink for NoLog {
-    fn emit(&mut self, _level: LogLevel, _category: &str, _message: &str) {}
-}
-
-fn vr(name: &str) -> u32 {
-    MillingForcePlant::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
-}
-
-fn fresh() -> Instance<MillingForcePlant> {
-    let mut inst = Instance::<MillingForcePlant>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.exit_initialization().unwrap();
-    inst
-}
-
-fn set(inst: &mut Instance<MillingForcePlant>, name: &str, x: f64) {
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(x)]).unwrap();
-}
-
-fn real(inst: &mut Instance<MillingForcePlant>, name: &str) -> f64 {
-    let mut out = Vec::new();
-    inst.get("fmi2GetReal", ScalarType::Real, &[vr(name)], &mut out).unwrap();
-    match out[0] {
-        Value::Real(x) => x,
-        ref v => panic!("{v:?}"),
-    }
-}
+type M = MillingForcePlant;
 
 const H: f64 = 0.05;
 
+fmi2_export::adapter_tests! {
+    model: M,
+    valid: [],
+    params: [{
+        let mut p = ForcePlantParams { tau_s: 0.0, tau_c: 0.04, ..Default::default() };
+        p.depth.segments = 8;
+        p.depth.b[7] = 0.5;
+        p
+    }],
+    work: Work::Fixed,
+    step: H,
+    states: { stepped: driven(30), fresh: ready::<M>, seed: 0x2f6b_1d3e_99aa_0c41, tries: 2000 },
+}
+
 /// 80 steps (4 s, across the first depth change) with a varying ramp.
-fn drive(inst: &mut Instance<MillingForcePlant>, from: usize, to: usize) {
+fn drive(inst: &mut Instance<M>, from: usize, to: usize) {
     for j in from..to {
-        set(inst, "f_c", 20.0 + 5.0 * (j as f64 * 0.3).sin());
-        set(inst, "f_c_rate", 40.0 * (j as f64 * 0.7).cos());
+        set_real(inst, "f_c", 20.0 + 5.0 * (j as f64 * 0.3).sin());
+        set_real(inst, "f_c_rate", 40.0 * (j as f64 * 0.7).cos());
         inst.do_step(j as f64 * H, H).unwrap();
     }
 }
 
+/// A fresh instance after `steps` steps of [`drive`].
+fn driven(steps: usize) -> Instance<M> {
+    let mut inst = ready::<M>();
+    drive(&mut inst, 0, steps);
+    inst
+}
+
 #[test]
 fn the_fmu_steps_the_core_bitwise_and_follows_the_depth_profile() {
-    let mut inst = fresh();
+    let mut inst = ready::<M>();
     drive(&mut inst, 0, 80);
     let mut core = ForcePlant::new(&ForcePlantParams::default()).unwrap();
     for j in 0..80 {
@@ -69,12 +61,12 @@ fn the_fmu_steps_the_core_bitwise_and_follows_the_depth_profile() {
 
 #[test]
 fn state_survives_serialize_bitwise_and_corruptions_are_refused() {
-    let mut a = fresh();
+    let mut a = ready::<M>();
     drive(&mut a, 0, 30);
     let bytes = a.snapshot().serialize().unwrap();
     drive(&mut a, 30, 80);
-    let mut b = fresh();
-    b.restore(&Snapshot::<MillingForcePlant>::deserialize(&bytes).unwrap());
+    let mut b = ready::<M>();
+    b.restore(&Snapshot::<M>::deserialize(&bytes).unwrap());
     drive(&mut b, 30, 80);
     for n in ["F_p", "f_a"] {
         assert_eq!(real(&mut a, n).to_bits(), real(&mut b, n).to_bits(), "{n}");
@@ -87,33 +79,21 @@ fn state_survives_serialize_bitwise_and_corruptions_are_refused() {
         let mut bad = bytes.clone();
         bad[at..at + 8].copy_from_slice(&(-1.0f64).to_le_bytes());
         reseal(&mut bad);
-        assert!(
-            matches!(Snapshot::<MillingForcePlant>::deserialize(&bad), Err(CallError::Error(m)) if m.contains("invalid state"))
-        );
+        assert!(matches!(Snapshot::<M>::deserialize(&bad), Err(CallError::Error(m)) if m.contains("invalid state")));
     }
-    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<MillingForcePlant>(
-        &bytes,
-        0x2f6b_1d3e_99aa_0c41,
-        2000,
-        fresh,
-        H,
-    );
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }
 
 #[test]
 fn non_finite_or_out_of_range_commands_are_refused_with_a_message() {
-    let mut inst = fresh();
+    let mut inst = ready::<M>();
     for x in [f64::NAN, f64::NEG_INFINITY, 1e7] {
-        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr("f_c")], &[Value::Real(x)]).unwrap_err();
+        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("f_c")], &[Value::Real(x)]).unwrap_err();
         let (CallError::Error(m) | CallError::Discard(m)) = e;
         assert!(m.contains("f_c"), "{m}");
     }
     // decreasing segment times are refused at initialization
-    let mut inst = Instance::<MillingForcePlant>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("depth.t3")], &[Value::Real(1.0)]).unwrap();
+    let mut inst = initializing::<M>();
+    set_real(&mut inst, "depth.t3", 1.0);
     let CallError::Error(m) = inst.exit_initialization().unwrap_err() else { panic!("expected fmi2Error") };
     assert!(m.contains("increase"), "{m}");
 }

@@ -9,10 +9,9 @@
 //! force at `t + h` (see [`milling_process::process`]): step the structure first, then the
 //! process (Gauss–Seidel), and the structure holds that force over its next step.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
 use milling_process::{Process, ProcessError, ProcessInputs, ProcessOutputs, ProcessParams};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 
@@ -85,9 +84,11 @@ pub static TABLE: LazyLock<Table<ProcessParams, ProcessInputs, ProcessOutputs>> 
     )
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &ProcessParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: MillingProcess,
+    table: TABLE as Table<ProcessParams, ProcessInputs, ProcessOutputs>,
+    parameters: |m| m.process.params(),
+    input_errors: ProcessError::Input,
 }
 
 /// The FMU model: the process core.
@@ -105,9 +106,7 @@ impl MillingProcess {
 
 impl Fmi2Model for MillingProcess {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> =
-            LazyLock::new(|| TABLE.model_description(&ProcessParams::default()).expect("valid MillingProcess table"));
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -123,11 +122,7 @@ impl Fmi2Model for MillingProcess {
 
     fn do_step(&mut self, v: &mut Values, _t: f64, h: f64, _log: &mut dyn ModelLog) -> Result<(), StepError> {
         let inputs = TABLE.read_inputs(v).map_err(StepError::Error)?;
-        match self.process.step(h, &inputs) {
-            Ok(()) => {}
-            Err(e @ ProcessError::Input(_)) => return Err(StepError::Discard(e.to_string())),
-            Err(e) => return Err(StepError::Error(e.to_string())),
-        }
+        self.process.step(h, &inputs).map_err(Self::step_error)?;
         TABLE.write_outputs(&self.process.outputs(), v);
         Ok(())
     }
@@ -139,17 +134,5 @@ impl Fmi2Model for MillingProcess {
 
     fn validate_state(&self) -> Result<(), String> {
         self.process.validate_state()
-    }
-}
-
-impl TableModel for MillingProcess {
-    type Params = ProcessParams;
-    type Inputs = ProcessInputs;
-    type Outputs = ProcessOutputs;
-    fn table() -> &'static Table<ProcessParams, ProcessInputs, ProcessOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &ProcessParams {
-        self.process.params()
     }
 }

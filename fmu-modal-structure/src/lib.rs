@@ -8,12 +8,11 @@
 //! (`#` starts a comment; a header line of words is skipped). The file's modes replace the
 //! mode parameters and set `n_modes`.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
 use machine_structure::modal::{
     MAX_MODES, ModalParams, StructureError, StructureInputs, StructureMode, StructureOutputs,
 };
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 
@@ -101,11 +100,15 @@ pub static TABLE: LazyLock<Table<StructureFmuParams, StructureInputs, StructureO
             }
         },
     )
+    // what a step costs, as `internal_steps` counts it: for masters, in modelDescription.xml
+    .work_bound("internal_step", 2.0)
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &StructureFmuParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: ModalStructure,
+    table: TABLE as Table<StructureFmuParams, StructureInputs, StructureOutputs>,
+    parameters: |m| &m.params,
+    input_errors: StructureError::Input,
 }
 
 /// Parse a modal table (module docs) into `p`'s modes and `n_modes`.
@@ -159,10 +162,7 @@ impl ModalStructure {
 
 impl Fmi2Model for ModalStructure {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> = LazyLock::new(|| {
-            TABLE.model_description(&StructureFmuParams::default()).expect("valid ModalStructure table")
-        });
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, env: &Environment) -> Result<Self, String> {
@@ -186,32 +186,18 @@ impl Fmi2Model for ModalStructure {
 
     fn do_step(&mut self, v: &mut Values, _t: f64, h: f64, _log: &mut dyn ModelLog) -> Result<(), StepError> {
         let inputs = TABLE.read_inputs(v).map_err(StepError::Error)?;
-        match self.structure.step(h, &inputs) {
-            Ok(()) => {}
-            Err(e @ StructureError::Input(_)) => return Err(StepError::Discard(e.to_string())),
-            Err(e) => return Err(StepError::Error(e.to_string())),
-        }
+        self.structure.step(h, &inputs).map_err(Self::step_error)?;
         TABLE.write_outputs(&self.structure.outputs(), v);
         Ok(())
     }
 
+    /// One sub-step per cell of the noise grid `internal_step`, plus a partial one at either end
+    /// (`h / internal_step + 2`, the work bound of the table).
     fn internal_steps(&self, h: f64) -> f64 {
         self.structure.internal_steps(h)
     }
 
     fn validate_state(&self) -> Result<(), String> {
         self.structure.validate_state()
-    }
-}
-
-impl TableModel for ModalStructure {
-    type Params = StructureFmuParams;
-    type Inputs = StructureInputs;
-    type Outputs = StructureOutputs;
-    fn table() -> &'static Table<StructureFmuParams, StructureInputs, StructureOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &StructureFmuParams {
-        &self.params
     }
 }

@@ -11,10 +11,9 @@
 //! direct dependency on an input (`ModelStructure` declares none); a master that wants the
 //! actuator force for a new command reads it after the next step.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, Severity, StepError, Table, Values};
 use milling_plant::{Mode, Plant, PlantError, PlantInputs, PlantOutputs, PlantParams};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 
@@ -124,10 +123,11 @@ pub static TABLE: LazyLock<Table<PlantParams, PlantInputs, PlantOutputs>> = Lazy
     .work_bound("internal_step", 2.0)
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs: what a master sets
-/// (`--set plant.NAME=VALUE`, SSP parameter bindings) to run the FMU with `p`.
-pub fn parameter_assignments(p: &PlantParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: MillingPlant,
+    table: TABLE as Table<PlantParams, PlantInputs, PlantOutputs>,
+    parameters: |m| m.plant.params(),
+    input_errors: PlantError::Input,
 }
 
 /// The FMU model: the plant core and what it has reported.
@@ -146,9 +146,7 @@ impl MillingPlant {
 
 impl Fmi2Model for MillingPlant {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> =
-            LazyLock::new(|| TABLE.model_description(&PlantParams::default()).expect("valid MillingPlant table"));
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -165,11 +163,7 @@ impl Fmi2Model for MillingPlant {
 
     fn do_step(&mut self, v: &mut Values, _t: f64, h: f64, log: &mut dyn ModelLog) -> Result<(), StepError> {
         let inputs = TABLE.read_inputs(v).map_err(StepError::Error)?;
-        match self.plant.step(h, &inputs) {
-            Ok(()) => {}
-            Err(e @ PlantError::Input(_)) => return Err(StepError::Discard(e.to_string())),
-            Err(e) => return Err(StepError::Error(e.to_string())),
-        }
+        self.plant.step(h, &inputs).map_err(Self::step_error)?;
         let o = self.plant.outputs();
         if o.saturated && !self.reported_saturation {
             self.reported_saturation = true;
@@ -197,45 +191,12 @@ impl Fmi2Model for MillingPlant {
     }
 }
 
-impl TableModel for MillingPlant {
-    type Params = PlantParams;
-    type Inputs = PlantInputs;
-    type Outputs = PlantOutputs;
-    fn table() -> &'static Table<PlantParams, PlantInputs, PlantOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &PlantParams {
-        self.plant.params()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fmi2_export::table::checks;
 
-    #[test]
-    fn the_xml_holds_exactly_the_table() {
-        checks::description_matches_table::<MillingPlant>().unwrap();
-    }
-
-    #[test]
-    fn every_parameter_set_through_the_api_reaches_the_core() {
-        // `distinct_value` would try 2 modes; the core takes 1 or 3
-        checks::parameter_round_trips::<MillingPlant>(&[("workpiece.modes", Value::Integer(3))]).unwrap();
-    }
-
-    #[test]
-    fn assignments_round_trip_and_cover_every_field() {
-        checks::assignments_round_trip::<MillingPlant>(&PlantParams::default()).unwrap();
-        let mut p = PlantParams::default();
-        p.cutting.axial_depth = 2.5e-3;
-        p.workpiece.modes = 3;
-        p.actuator.a[1][0] = 0.5;
-        checks::assignments_round_trip::<MillingPlant>(&p).unwrap();
-        checks::parameter_coverage::<MillingPlant>().unwrap();
-    }
-
+    /// The higher modes, computed rows, come back from their start values as the same modes
+    /// (the shared `start_values_are_the_defaults` compares the rows).
     #[test]
     fn start_values_give_the_default_parameters() {
         let v = Values::from_description(MillingPlant::description());

@@ -1,64 +1,52 @@
-//! Regression tests of the plant FMU against hostile calls: a bounded amount of work per
-//! `fmi2DoStep`, and bounded memory for every input in its declared range.
+//! The plant FMU's shared adapter checks, and regression tests against hostile calls: a bounded
+//! amount of work per `fmi2DoStep`, and bounded memory for every input in its declared range.
 
-use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink};
-use fmi2_export::table::checks::{self, reseal};
-use fmi2_export::{Environment, Fmi2Model, MAX_INTERNAL_STEPS_PER_CALL};
+use fmi2_export::instance::{CallError, Instance};
+use fmi2_export::table::checks::{ready, ready_with, reseal, set_real};
+use fmi2_export::{Fmi2Model, MAX_INTERNAL_STEPS_PER_CALL};
 use fmu_plant::MillingPlant;
-use model_description::{ScalarType, Value};
-use std::sync::{Arc, Mutex};
+use milling_plant::PlantParams;
+use model_description::Value;
 use std::time::Instant;
 
-/// Collects the messages an instance sends to its host.
-#[derive(Clone, Default)]
-struct Log(Arc<Mutex<Vec<String>>>);
-impl LogSink for Log {
-    fn emit(&mut self, _level: LogLevel, _category: &str, message: &str) {
-        self.0.lock().unwrap().push(message.to_string());
-    }
-}
+type M = MillingPlant;
 
-fn vr(name: &str) -> u32 {
-    MillingPlant::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
-}
-
-/// An initialized plant instance (no stop time) with `reals` set before initialization.
-fn ready(reals: &[(&str, f64)]) -> (Instance<MillingPlant>, Log) {
-    let log = Log::default();
-    let mut inst = Instance::<MillingPlant>::new(Environment::default(), false, Box::new(log.clone()));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    for (name, x) in reals {
-        inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(*x)]).unwrap();
-    }
-    inst.exit_initialization().unwrap();
-    (inst, log)
+fmi2_export::adapter_tests! {
+    model: M,
+    // `distinct_value` would try 2 modes; the core takes 1 or 3
+    valid: [("workpiece.modes", Value::Integer(3))],
+    params: [{
+        let mut p = PlantParams::default();
+        p.cutting.axial_depth = 2.5e-3;
+        p.workpiece.modes = 3;
+        p.actuator.a[1][0] = 0.5;
+        p
+    }],
+    work: Work::Bound("internal_step"),
+    step: 1e-3,
+    states: { stepped: cut_10_ms(), fresh: ready::<M>, seed: 0x2545_f491_4f6c_dd1d_u64, tries: 2000 },
 }
 
 #[test]
 fn a_huge_step_without_stop_time_is_refused_at_once_not_run() {
-    let (mut inst, _) = ready(&[]);
+    let mut inst = ready::<M>();
     let t = Instant::now();
     let err = inst.do_step(0.0, 1e6).unwrap_err();
     assert!(t.elapsed().as_secs_f64() < 1.0, "refused after {:?}", t.elapsed());
     let CallError::Error(m) = err else { panic!("expected fmi2Error, got {err:?}") };
     assert!(m.contains("internal steps") && m.contains("limit"), "{m}");
     // an ordinary step is still accepted
-    let (mut inst, _) = ready(&[]);
+    let mut inst = ready::<M>();
     assert!(inst.do_step(0.0, 0.1).is_ok());
 }
 
 #[test]
 fn the_bound_follows_the_internal_step_parameter() {
     // at a 0.1 ms grid a 100 s step is 1e6 internal steps: allowed; 1e4 s is 1e8: refused
-    let (inst, _) = ready(&[("internal_step", 1e-4)]);
+    let inst = ready_with::<M>(&[("internal_step", Value::Real(1e-4))]);
     let m = inst.model().unwrap();
     assert!(m.internal_steps(100.0) <= MAX_INTERNAL_STEPS_PER_CALL);
     assert!(m.internal_steps(1e4) > MAX_INTERNAL_STEPS_PER_CALL);
-}
-
-fn set(inst: &mut Instance<MillingPlant>, name: &str, x: f64) {
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr(name)], &[Value::Real(x)]).unwrap();
 }
 
 /// (history samples, serialized FMU state bytes)
@@ -68,13 +56,13 @@ fn footprint(inst: &Instance<MillingPlant>) -> (usize, usize) {
 
 #[test]
 fn sixty_seconds_at_0_rpm_run_in_flat_memory() {
-    let (mut inst, _) = ready(&[]);
+    let mut inst = ready::<M>();
     let h = 1e-3;
     // cut for 0.1 s at the default speed, then stop the spindle for 60 s
     for k in 0..100 {
         inst.do_step(k as f64 * h, h).unwrap();
     }
-    set(&mut inst, "spindle_speed", 0.0);
+    set_real(&mut inst, "spindle_speed", 0.0);
     let mut at_5s = (0, 0);
     for k in 100..60_100 {
         inst.do_step(k as f64 * h, h).unwrap();
@@ -90,31 +78,36 @@ fn sixty_seconds_at_0_rpm_run_in_flat_memory() {
     assert!(at_60s.1 <= at_5s.1 + 16, "the state grows at 0 rpm: {at_5s:?} -> {at_60s:?}");
     assert!(at_60s.0 < 1000 && at_60s.1 < 100_000, "{at_60s:?}");
     // and the spindle starts again on the surface it left
-    set(&mut inst, "spindle_speed", 2000.0);
+    set_real(&mut inst, "spindle_speed", 2000.0);
     assert!(inst.do_step(60.1, 0.01).is_ok());
 }
 
 #[test]
 fn cutting_below_the_lowest_speed_is_refused_not_buffered_without_bound() {
-    let (mut inst, _) = ready(&[]);
+    let mut inst = ready::<M>();
     let n_min = inst.model().unwrap().plant().min_cutting_speed_rpm();
     assert!(n_min > 1.0 && n_min < 20.0, "{n_min}");
-    set(&mut inst, "spindle_speed", n_min / 2.0);
+    set_real(&mut inst, "spindle_speed", n_min / 2.0);
     let err = inst.do_step(0.0, 1e-3).unwrap_err();
     let CallError::Discard(m) = err else { panic!("expected fmi2Discard, got {err:?}") };
     assert!(m.contains("lowest cutting speed"), "{m}");
-    let (mut inst, _) = ready(&[]);
-    set(&mut inst, "spindle_speed", n_min * 1.01);
+    let mut inst = ready::<M>();
+    set_real(&mut inst, "spindle_speed", n_min * 1.01);
     assert!(inst.do_step(0.0, 1e-3).is_ok());
 }
 
-/// A serialized state after 10 ms of cutting at the default speed (noise on).
-fn saved_state() -> Vec<u8> {
-    let (mut inst, _) = ready(&[]);
+/// An instance after 10 ms of cutting at the default speed (noise on).
+fn cut_10_ms() -> Instance<M> {
+    let mut inst = ready::<M>();
     for k in 0..10 {
         inst.do_step(k as f64 * 1e-3, 1e-3).unwrap();
     }
-    inst.snapshot().serialize().unwrap()
+    inst
+}
+
+/// The serialized state of [`cut_10_ms`].
+fn saved_state() -> Vec<u8> {
+    cut_10_ms().snapshot().serialize().unwrap()
 }
 
 /// Every occurrence of the double `from` replaced, one at a time, by `to`: each must be refused.
@@ -153,22 +146,4 @@ fn a_restored_state_with_a_disordered_history_is_refused() {
     // history sample times are cell·T: the sample at 5 ms moved after the present
     assert_eq!(each_copy_refused(&bytes, 500.0 * 1e-5, 1.0, "history sample out of order"), 1);
     assert!(each_copy_refused(&bytes, 500.0 * 1e-5, f64::NAN, "history sample not finite") >= 1);
-}
-
-#[test]
-fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<MillingPlant>(
-        &saved_state(),
-        0x2545_f491_4f6c_dd1d_u64,
-        2000,
-        || ready(&[]).0,
-        1e-3,
-    );
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
-}
-
-#[test]
-fn the_declared_work_bound_is_the_plants_cost() {
-    assert_eq!(checks::work_bound_matches_internal_steps::<MillingPlant>(), Ok(true));
-    assert_eq!(MillingPlant::description().work_bound().unwrap().internal_step_parameter, "internal_step");
 }

@@ -16,9 +16,8 @@
 //! The fuzzy consequents (the learned weights), the error history, the PID integrator, the
 //! model prediction and the clock are all in the serialized FMU state.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use sliding_fuzzy_control::{ControllerOutputs, SlidingFuzzy, SlidingFuzzyError, SlidingFuzzyParams};
 use std::sync::LazyLock;
@@ -102,9 +101,11 @@ pub static TABLE: LazyLock<Table<SlidingFuzzyParams, FuzzyInputs, ControllerOutp
     .work_bound("Ts", 1.0)
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &SlidingFuzzyParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: SlidingModeFuzzyController,
+    table: TABLE as Table<SlidingFuzzyParams, FuzzyInputs, ControllerOutputs>,
+    parameters: |m| m.ctrl.params(),
+    input_errors: SlidingFuzzyError::Input,
 }
 
 /// The FMU model: the controller core with its clock.
@@ -122,10 +123,7 @@ impl SlidingModeFuzzyController {
 
 impl Fmi2Model for SlidingModeFuzzyController {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> = LazyLock::new(|| {
-            TABLE.model_description(&SlidingFuzzyParams::default()).expect("valid SlidingModeFuzzyController table")
-        });
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -145,8 +143,7 @@ impl Fmi2Model for SlidingModeFuzzyController {
                 TABLE.write_outputs(&o, v);
                 Ok(())
             }
-            Err(e @ SlidingFuzzyError::Input(_)) => Err(StepError::Discard(e.to_string())),
-            Err(e) => Err(StepError::Error(e.to_string())),
+            Err(e) => Err(Self::step_error(e)),
         }
     }
 
@@ -157,52 +154,5 @@ impl Fmi2Model for SlidingModeFuzzyController {
 
     fn validate_state(&self) -> Result<(), String> {
         self.ctrl.validate_state()
-    }
-}
-
-impl TableModel for SlidingModeFuzzyController {
-    type Params = SlidingFuzzyParams;
-    type Inputs = FuzzyInputs;
-    type Outputs = ControllerOutputs;
-    fn table() -> &'static Table<SlidingFuzzyParams, FuzzyInputs, ControllerOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &SlidingFuzzyParams {
-        self.ctrl.params()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use fmi2_export::table::checks;
-    use sliding_fuzzy_control::ControlMode;
-
-    #[test]
-    fn the_xml_holds_exactly_the_table() {
-        checks::description_matches_table::<SlidingModeFuzzyController>().unwrap();
-    }
-
-    #[test]
-    fn the_declared_work_bound_is_the_models_cost() {
-        assert_eq!(checks::work_bound_matches_internal_steps::<SlidingModeFuzzyController>(), Ok(true));
-    }
-
-    #[test]
-    fn every_parameter_set_through_the_api_reaches_the_core() {
-        checks::parameter_round_trips::<SlidingModeFuzzyController>(&[]).unwrap();
-    }
-
-    #[test]
-    fn assignments_round_trip_and_cover_every_field() {
-        checks::assignments_round_trip::<SlidingModeFuzzyController>(&SlidingFuzzyParams::default()).unwrap();
-        let p = SlidingFuzzyParams {
-            mode: ControlMode::Dpid,
-            karnik_mendel: true,
-            pid_error_scale: 1.0,
-            ..Default::default()
-        };
-        checks::assignments_round_trip::<SlidingModeFuzzyController>(&p).unwrap();
-        checks::parameter_coverage::<SlidingModeFuzzyController>().unwrap();
     }
 }

@@ -1,60 +1,57 @@
-//! The controller FMU through the instance state machine: the learned fuzzy weights and every
-//! other part of the state survive get/set and serialize/deserialize FMU state bitwise; bad
-//! inputs and corrupted states are refused with a message.
+//! The controller FMU: the shared adapter checks, and through the instance state machine: the
+//! learned fuzzy weights and every other part of the state survive get/set and
+//! serialize/deserialize FMU state bitwise; bad inputs and corrupted states are refused with a
+//! message.
 
-use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink, Snapshot};
-use fmi2_export::table::checks;
-use fmi2_export::{Environment, Fmi2Model};
+use fmi2_export::instance::{CallError, Instance, Snapshot};
+use fmi2_export::table::checks::{initializing, ready_with, real, set_real, vr};
 use fmu_sliding_mode_fuzzy_controller::SlidingModeFuzzyController;
 use model_description::{ScalarType, Value};
 use sliding_fuzzy_control::controller::Compensator;
-use sliding_fuzzy_control::{ToolInputs, ToolParams, ToolPlant};
+use sliding_fuzzy_control::{ControlMode, SlidingFuzzyParams, ToolInputs, ToolParams, ToolPlant};
 
-struct NoLog;
-impl LogSink for NoLog {
-    fn emit(&mut self, _level: LogLevel, _category: &str, _message: &str) {}
-}
-
-fn vr(name: &str) -> u32 {
-    SlidingModeFuzzyController::description()
-        .variable(name)
-        .unwrap_or_else(|| panic!("no variable {name}"))
-        .value_reference
-}
+type M = SlidingModeFuzzyController;
 
 const H: f64 = 1e-4;
 
-/// A fresh instance in mode `mode` (enumeration index) with Karnik–Mendel on or off.
-fn fresh_with(mode: i32, km: bool) -> Instance<SlidingModeFuzzyController> {
-    let mut inst = Instance::<SlidingModeFuzzyController>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.set("fmi2SetInteger", ScalarType::Integer, &[vr("mode")], &[Value::Integer(mode)]).unwrap();
-    inst.set("fmi2SetBoolean", ScalarType::Boolean, &[vr("karnik_mendel")], &[Value::Boolean(km)]).unwrap();
-    inst.exit_initialization().unwrap();
-    inst
+fmi2_export::adapter_tests! {
+    model: M,
+    valid: [],
+    params: [SlidingFuzzyParams {
+        mode: ControlMode::Dpid,
+        karnik_mendel: true,
+        pid_error_scale: 1.0,
+        ..Default::default()
+    }],
+    work: Work::Bound("Ts"),
+    step: H,
+    states: { stepped: closed_loop(50), fresh: fresh, seed: 0x5eed_0003_u64, tries: 2000 },
 }
 
-fn fresh() -> Instance<SlidingModeFuzzyController> {
+/// A fresh instance in mode `mode` (enumeration index) with Karnik–Mendel on or off.
+fn fresh_with(mode: i32, km: bool) -> Instance<M> {
+    ready_with::<M>(&[("mode", Value::Integer(mode)), ("karnik_mendel", Value::Boolean(km))])
+}
+
+fn fresh() -> Instance<M> {
     fresh_with(5, false) // dsmc_t2
 }
 
-fn real(inst: &mut Instance<SlidingModeFuzzyController>, name: &str) -> f64 {
-    let mut out = Vec::new();
-    inst.get("fmi2GetReal", ScalarType::Real, &[vr(name)], &mut out).unwrap();
-    match out[0] {
-        Value::Real(x) => x,
-        ref v => panic!("{v:?}"),
-    }
+/// A fresh instance after `steps` steps of [`run`] with the seed's tool.
+fn closed_loop(steps: usize) -> Instance<M> {
+    let mut inst = fresh();
+    run(&mut inst, &mut plant(), 0, steps);
+    inst
 }
 
 /// The seed's tool (forced, cutting) closes the loop around the FMU.
-fn run(inst: &mut Instance<SlidingModeFuzzyController>, plant: &mut ToolPlant, from: usize, to: usize) {
+fn run(inst: &mut Instance<M>, plant: &mut ToolPlant, from: usize, to: usize) {
     let xs = plant.static_deflection();
     for j in from..to {
         let o = plant.outputs();
         let vals = [o.x - xs[0], o.y - xs[1], o.vx, o.vy].map(Value::Real);
-        inst.set("fmi2SetReal", ScalarType::Real, &[vr("x"), vr("y"), vr("vx"), vr("vy")], &vals).unwrap();
+        inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("x"), vr::<M>("y"), vr::<M>("vx"), vr::<M>("vy")], &vals)
+            .unwrap();
         inst.do_step(j as f64 * H, H).unwrap();
         let u = ToolInputs { ux: real(inst, "u_x"), uy: real(inst, "u_y") };
         plant.step(H, &u).unwrap();
@@ -67,11 +64,11 @@ fn plant() -> ToolPlant {
 
 const WATCH: [&str; 10] = ["u_x", "u_y", "s_x", "s_y", "j_hat_x", "j_hat_y", "h_hat_x", "h_hat_y", "e_m_x", "e_m_y"];
 
-fn watched(inst: &mut Instance<SlidingModeFuzzyController>) -> Vec<u64> {
+fn watched(inst: &mut Instance<M>) -> Vec<u64> {
     WATCH.iter().map(|n| real(inst, n).to_bits()).collect()
 }
 
-fn weights(inst: &Instance<SlidingModeFuzzyController>) -> Vec<f64> {
+fn weights(inst: &Instance<M>) -> Vec<f64> {
     let c = inst.model().unwrap().controller();
     let mut w = Vec::new();
     for a in 0..2 {
@@ -113,7 +110,7 @@ fn fuzzy_weights_and_state_survive_get_set_and_serialize_bitwise() {
         assert_eq!(bits(&weights(&a)), w_end);
         // serialize / deserialize into a fresh instance
         let mut c = fresh_with(mode, km);
-        c.restore(&Snapshot::<SlidingModeFuzzyController>::deserialize(&bytes).unwrap());
+        c.restore(&Snapshot::<M>::deserialize(&bytes).unwrap());
         let mut pc = pb0.clone();
         run(&mut c, &mut pc, 370, 800);
         assert_eq!(watched(&mut c), end);
@@ -126,31 +123,14 @@ fn fuzzy_weights_and_state_survive_get_set_and_serialize_bitwise() {
 fn out_of_range_inputs_are_refused_with_a_message() {
     let mut inst = fresh();
     for x in [f64::NAN, f64::INFINITY, 2.0] {
-        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr("x")], &[Value::Real(x)]).unwrap_err();
+        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("x")], &[Value::Real(x)]).unwrap_err();
         let (CallError::Error(m) | CallError::Discard(m)) = e;
         assert!(m.contains('x'), "{m}");
     }
     // an unstable sliding surface is refused at the end of initialization
-    let mut inst = Instance::<SlidingModeFuzzyController>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("k2")], &[Value::Real(-0.9)]).unwrap();
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("k1")], &[Value::Real(1.5)]).unwrap();
+    let mut inst = initializing::<M>();
+    set_real(&mut inst, "k2", -0.9);
+    set_real(&mut inst, "k1", 1.5);
     let CallError::Error(m) = inst.exit_initialization().unwrap_err() else { panic!("expected fmi2Error") };
     assert!(m.contains("unit circle"), "{m}");
-}
-
-#[test]
-fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let mut inst = fresh();
-    let mut p = plant();
-    run(&mut inst, &mut p, 0, 50);
-    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<SlidingModeFuzzyController>(
-        &inst.snapshot().serialize().unwrap(),
-        0x5eed_0003_u64,
-        2000,
-        fresh,
-        H,
-    );
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }

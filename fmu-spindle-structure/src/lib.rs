@@ -4,9 +4,8 @@
 //! `SpindleStructure.fmu`, declared once in [`TABLE`]: force inputs at the tool and at the
 //! bearing, displacements and velocities of both, Table I as parameters.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use spindle_structure::{Spindle, SpindleError, SpindleInputs, SpindleOutputs, SpindleParams};
 use std::sync::LazyLock;
@@ -52,9 +51,11 @@ pub static TABLE: LazyLock<Table<SpindleParams, SpindleInputs, SpindleOutputs>> 
     )
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &SpindleParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: SpindleStructure,
+    table: TABLE as Table<SpindleParams, SpindleInputs, SpindleOutputs>,
+    parameters: |m| m.spindle.params(),
+    input_errors: SpindleError::Input,
 }
 
 /// The FMU model: the spindle core.
@@ -72,9 +73,7 @@ impl SpindleStructure {
 
 impl Fmi2Model for SpindleStructure {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> =
-            LazyLock::new(|| TABLE.model_description(&SpindleParams::default()).expect("valid SpindleStructure table"));
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -89,28 +88,12 @@ impl Fmi2Model for SpindleStructure {
 
     fn do_step(&mut self, v: &mut Values, _t: f64, h: f64, _log: &mut dyn ModelLog) -> Result<(), StepError> {
         let inputs = TABLE.read_inputs(v).map_err(StepError::Error)?;
-        match self.spindle.step(h, &inputs) {
-            Ok(()) => {}
-            Err(e @ SpindleError::Input(_)) => return Err(StepError::Discard(e.to_string())),
-            Err(e) => return Err(StepError::Error(e.to_string())),
-        }
+        self.spindle.step(h, &inputs).map_err(Self::step_error)?;
         TABLE.write_outputs(&self.spindle.outputs(), v);
         Ok(())
     }
 
     fn validate_state(&self) -> Result<(), String> {
         self.spindle.validate_state()
-    }
-}
-
-impl TableModel for SpindleStructure {
-    type Params = SpindleParams;
-    type Inputs = SpindleInputs;
-    type Outputs = SpindleOutputs;
-    fn table() -> &'static Table<SpindleParams, SpindleInputs, SpindleOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &SpindleParams {
-        self.spindle.params()
     }
 }

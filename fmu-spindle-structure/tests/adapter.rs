@@ -1,51 +1,28 @@
-//! The SpindleStructure adapter: its table, round trips, refusals, restored states, and the
-//! Table I frequencies and tool FRF measured through the FMU's own code path.
+//! The SpindleStructure adapter: the shared adapter checks, and the Table I frequencies and tool
+//! FRF measured through the FMU's own code path.
 
-use fmi2_export::Fmi2Model;
-use fmi2_export::table::checks;
+use fmi2_export::table::checks::{ready, stepped, vr};
 use fmu_spindle_structure::SpindleStructure;
 use model_description::{ScalarType, Value};
 use num_complex::Complex64;
 use spindle_structure::{Point, Spindle, SpindleParams};
 use std::f64::consts::PI;
 
-fn vr(name: &str) -> u32 {
-    SpindleStructure::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
-}
+type M = SpindleStructure;
 
-#[test]
-fn the_xml_holds_exactly_the_table() {
-    checks::description_matches_table::<SpindleStructure>().unwrap();
-}
-
-#[test]
-fn non_finite_inputs_are_refused_with_a_message() {
-    checks::non_finite_inputs_are_refused::<SpindleStructure>(1e-6).unwrap();
-}
-
-#[test]
-fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let (refused, loaded) =
-        checks::corrupted_states_after_steps::<SpindleStructure>(10.0, 200, 1e-6, 0x51d1_e5ee_d002_0002, 1000);
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
-    assert!(refused > 0);
-}
-
-#[test]
-fn parameters_round_trip_and_cover_every_field() {
-    checks::parameter_round_trips::<SpindleStructure>(&[]).unwrap();
-    let mut p = SpindleParams::default();
-    checks::assignments_round_trip::<SpindleStructure>(&p).unwrap();
-    p.tool_mass = 0.02;
-    p.actuator_damping_ratio = 0.3;
-    checks::assignments_round_trip::<SpindleStructure>(&p).unwrap();
-    checks::parameter_coverage::<SpindleStructure>().unwrap();
+fmi2_export::adapter_tests! {
+    model: M,
+    valid: [],
+    params: [SpindleParams { tool_mass: 0.02, actuator_damping_ratio: 0.3, ..Default::default() }],
+    work: Work::Fixed,
+    step: 1e-6,
+    states: { stepped: stepped::<M>(10.0, 200, 1e-6), fresh: ready::<M>, seed: 0x51d1_e5ee_d002_0002, tries: 1000 },
 }
 
 /// The FMU's model (initialized from its start values) has the Table I modes.
 #[test]
 fn the_fmu_has_the_table_i_frequencies() {
-    let inst = checks::ready::<SpindleStructure>();
+    let inst = ready::<M>();
     let s = inst.model().unwrap().spindle();
     let d = s.damped_frequencies();
     let u = s.undamped_frequencies();
@@ -58,9 +35,9 @@ fn the_fmu_has_the_table_i_frequencies() {
 /// Drive `tool_force_x` (or `_y`) with a unit sine through fmi2SetReal/fmi2DoStep, and fit the
 /// steady tool displacement over whole periods: the measured FRF.
 fn measured_frf(freq: f64, axis: usize) -> Complex64 {
-    let mut inst = checks::ready::<SpindleStructure>();
+    let mut inst = ready::<M>();
     let (fin, out) = if axis == 0 { ("tool_force_x", "tool_x") } else { ("tool_force_y", "tool_y") };
-    let (vin, vout) = (vr(fin), vr(out));
+    let (vin, vout) = (vr::<M>(fin), vr::<M>(out));
     let h = 1e-6;
     let w = 2.0 * PI * freq;
     let period = 1.0 / freq;

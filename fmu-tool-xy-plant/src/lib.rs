@@ -10,9 +10,8 @@
 //! the step. Outputs `x`, `y` are the vibration about the static deflection (what the controller
 //! sees); `deflection_x`, `deflection_y` the total displacement.
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 use tool_xy::{ToolError, ToolInputs, ToolParams, ToolPlant};
@@ -93,9 +92,11 @@ pub static TABLE: LazyLock<Table<ToolParams, ToolInputs, ToolXyOutputs>> = LazyL
     )
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &ToolParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: ToolXyPlant,
+    table: TABLE as Table<ToolParams, ToolInputs, ToolXyOutputs>,
+    parameters: |m| m.tool.params(),
+    input_errors: ToolError::Input,
 }
 
 /// The FMU model: the tool core.
@@ -125,9 +126,7 @@ impl ToolXyPlant {
 
 impl Fmi2Model for ToolXyPlant {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> =
-            LazyLock::new(|| TABLE.model_description(&ToolParams::default()).expect("valid ToolXyPlant table"));
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -142,11 +141,7 @@ impl Fmi2Model for ToolXyPlant {
 
     fn do_step(&mut self, v: &mut Values, _t: f64, h: f64, _log: &mut dyn ModelLog) -> Result<(), StepError> {
         let inputs = TABLE.read_inputs(v).map_err(StepError::Error)?;
-        match self.tool.step(h, &inputs) {
-            Ok(_) => {}
-            Err(e @ ToolError::Input(_)) => return Err(StepError::Discard(e.to_string())),
-            Err(e) => return Err(StepError::Error(e.to_string())),
-        }
+        self.tool.step(h, &inputs).map_err(Self::step_error)?;
         TABLE.write_outputs(&self.outputs(), v);
         Ok(())
     }
@@ -159,48 +154,5 @@ impl Fmi2Model for ToolXyPlant {
     fn validate_state(&self) -> Result<(), String> {
         self.tool.params().validate().map_err(|e| e.to_string())?;
         self.tool.validate_state()
-    }
-}
-
-impl TableModel for ToolXyPlant {
-    type Params = ToolParams;
-    type Inputs = ToolInputs;
-    type Outputs = ToolXyOutputs;
-    fn table() -> &'static Table<ToolParams, ToolInputs, ToolXyOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &ToolParams {
-        self.tool.params()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use fmi2_export::table::checks;
-
-    #[test]
-    fn the_xml_holds_exactly_the_table() {
-        checks::description_matches_table::<ToolXyPlant>().unwrap();
-    }
-
-    #[test]
-    fn no_work_bound_is_declared() {
-        // the RK4 step is τ/⌈τ/max_step⌉, not max_step itself: no "h/p + extra" bound to declare;
-        // the layer still refuses a step beyond 1e7 internal steps
-        assert_eq!(checks::work_bound_matches_internal_steps::<ToolXyPlant>(), Ok(false));
-    }
-
-    #[test]
-    fn every_parameter_set_through_the_api_reaches_the_core() {
-        checks::parameter_round_trips::<ToolXyPlant>(&[]).unwrap();
-    }
-
-    #[test]
-    fn assignments_round_trip_and_cover_every_field() {
-        checks::assignments_round_trip::<ToolXyPlant>(&ToolParams::default()).unwrap();
-        let p = ToolParams { cutting: false, teeth: 2, forcing_amplitude: [3.0, -4.0], ..Default::default() };
-        checks::assignments_round_trip::<ToolXyPlant>(&p).unwrap();
-        checks::parameter_coverage::<ToolXyPlant>().unwrap();
     }
 }

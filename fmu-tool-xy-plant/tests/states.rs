@@ -1,50 +1,47 @@
-//! The tool FMU through the instance state machine: the delay line and the damper survive
-//! get/set and serialize/deserialize FMU state bitwise; a step that is not a whole number of
-//! integration steps is discarded with a message; corrupted states are refused or run safely.
+//! The tool FMU: the shared adapter checks, and through the instance state machine: the delay
+//! line and the damper survive get/set and serialize/deserialize FMU state bitwise; a step that
+//! is not a whole number of integration steps is discarded with a message; corrupted states are
+//! refused or run safely.
 
-use fmi2_export::instance::{CallError, Instance, LogLevel, LogSink, Snapshot};
-use fmi2_export::table::checks;
-use fmi2_export::{Environment, Fmi2Model};
+use fmi2_export::instance::{CallError, Instance, Snapshot};
+use fmi2_export::table::checks::{ready_with, real, vr};
 use fmu_tool_xy_plant::ToolXyPlant;
 use model_description::{ScalarType, Value};
+use tool_xy::ToolParams;
 
-struct NoLog;
-impl LogSink for NoLog {
-    fn emit(&mut self, _level: LogLevel, _category: &str, _message: &str) {}
-}
-
-fn vr(name: &str) -> u32 {
-    ToolXyPlant::description().variable(name).unwrap_or_else(|| panic!("no variable {name}")).value_reference
-}
+type M = ToolXyPlant;
 
 const H: f64 = 1e-4;
 
-fn fresh() -> Instance<ToolXyPlant> {
-    let mut inst = Instance::<ToolXyPlant>::new(Environment::default(), false, Box::new(NoLog));
-    inst.setup_experiment(0.0, None).unwrap();
-    inst.enter_initialization().unwrap();
-    inst.set("fmi2SetReal", ScalarType::Real, &[vr("A_x"), vr("A_y")], &[Value::Real(3.0), Value::Real(20.0)]).unwrap();
-    inst.exit_initialization().unwrap();
+fmi2_export::adapter_tests! {
+    model: M,
+    valid: [],
+    params: [ToolParams { cutting: false, teeth: 2, forcing_amplitude: [3.0, -4.0], ..Default::default() }],
+    // the layer still refuses a step beyond 1e7 internal steps
+    work: Work::Undeclared("the RK4 step is τ/⌈τ/max_step⌉, not max_step itself: no h/p + extra bound"),
+    step: H,
+    states: { stepped: damped(20), fresh: fresh, seed: 0x7001_0003_u64, tries: 300 },
+}
+
+fn fresh() -> Instance<M> {
+    ready_with::<M>(&[("A_x", Value::Real(3.0)), ("A_y", Value::Real(20.0))])
+}
+
+/// A fresh instance after `steps` steps of [`run`].
+fn damped(steps: usize) -> Instance<M> {
+    let mut inst = fresh();
+    run(&mut inst, 0, steps);
     inst
 }
 
-fn real(inst: &mut Instance<ToolXyPlant>, name: &str) -> f64 {
-    let mut out = Vec::new();
-    inst.get("fmi2GetReal", ScalarType::Real, &[vr(name)], &mut out).unwrap();
-    match out[0] {
-        Value::Real(x) => x,
-        ref v => panic!("{v:?}"),
-    }
-}
-
 /// A velocity feedback through the inputs, so that the damper moves.
-fn run(inst: &mut Instance<ToolXyPlant>, from: usize, to: usize) {
+fn run(inst: &mut Instance<M>, from: usize, to: usize) {
     for j in from..to {
         let (vx, vy) = (real(inst, "vx"), real(inst, "vy"));
         inst.set(
             "fmi2SetReal",
             ScalarType::Real,
-            &[vr("u_x"), vr("u_y")],
+            &[vr::<M>("u_x"), vr::<M>("u_y")],
             &[Value::Real(-2e3 * vx), Value::Real(-2e3 * vy)],
         )
         .unwrap();
@@ -54,7 +51,7 @@ fn run(inst: &mut Instance<ToolXyPlant>, from: usize, to: usize) {
 
 const WATCH: [&str; 10] = ["x", "y", "vx", "vy", "deflection_x", "deflection_y", "F_x", "F_y", "damper_x", "damper_y"];
 
-fn watched(inst: &mut Instance<ToolXyPlant>) -> Vec<u64> {
+fn watched(inst: &mut Instance<M>) -> Vec<u64> {
     WATCH.iter().map(|n| real(inst, n).to_bits()).collect()
 }
 
@@ -72,7 +69,7 @@ fn the_delay_line_survives_get_set_and_serialize_bitwise() {
     run(&mut a, 70, 160);
     assert_eq!(watched(&mut a), end);
     let mut c = fresh();
-    c.restore(&Snapshot::<ToolXyPlant>::deserialize(&bytes).unwrap());
+    c.restore(&Snapshot::<M>::deserialize(&bytes).unwrap());
     run(&mut c, 70, 160);
     assert_eq!(watched(&mut c), end);
 }
@@ -83,22 +80,8 @@ fn bad_steps_and_inputs_are_refused_with_a_message() {
     let CallError::Discard(m) = inst.do_step(0.0, 1.5e-5).unwrap_err() else { panic!("expected fmi2Discard") };
     assert!(m.contains("whole number"), "{m}");
     for x in [f64::NAN, f64::NEG_INFINITY, 2e9] {
-        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr("u_x")], &[Value::Real(x)]).unwrap_err();
+        let e = inst.set("fmi2SetReal", ScalarType::Real, &[vr::<M>("u_x")], &[Value::Real(x)]).unwrap_err();
         let (CallError::Error(m) | CallError::Discard(m)) = e;
         assert!(m.contains("u_x"), "{m}");
     }
-}
-
-#[test]
-fn randomly_corrupted_resealed_states_never_panic_or_hang() {
-    let mut inst = fresh();
-    run(&mut inst, 0, 20);
-    let (refused, loaded) = checks::corrupted_states_never_panic_or_hang::<ToolXyPlant>(
-        &inst.snapshot().serialize().unwrap(),
-        0x7001_0003_u64,
-        300,
-        fresh,
-        H,
-    );
-    println!("random corruptions: {refused} refused, {loaded} loaded and stepped without panic");
 }

@@ -10,9 +10,8 @@
 //! held. Outputs at `t` are those of the state at `t`; no output depends directly on an input
 //! (the chip and force outputs are evaluated with the inputs of the last step).
 
-use fmi2_export::table::TableModel;
 use fmi2_export::{Environment, Fmi2Model, Header, ModelLog, StepError, Table, Values};
-use model_description::{ModelDescription, Value};
+use model_description::ModelDescription;
 use serde::{Deserialize, Serialize};
 use std::sync::LazyLock;
 use turning_process::{TurningError, TurningInputs, TurningOutputs, TurningParams, TurningProcess};
@@ -62,9 +61,11 @@ pub static TABLE: LazyLock<Table<TurningParams, TurningInputs, TurningOutputs>> 
     .work_bound("max_step", 1.0)
 });
 
-/// The FMU's parameters holding `p`, as (variable name, value) pairs.
-pub fn parameter_assignments(p: &TurningParams) -> Vec<(String, Value)> {
-    TABLE.assignments(p)
+fmi2_export::adapter! {
+    model: TurningProcessFmu,
+    table: TABLE as Table<TurningParams, TurningInputs, TurningOutputs>,
+    parameters: |m| m.process.params(),
+    input_errors: TurningError::Input,
 }
 
 /// The FMU model: the turning process core.
@@ -82,9 +83,7 @@ impl TurningProcessFmu {
 
 impl Fmi2Model for TurningProcessFmu {
     fn description() -> &'static ModelDescription {
-        static MD: LazyLock<ModelDescription> =
-            LazyLock::new(|| TABLE.model_description(&TurningParams::default()).expect("valid TurningProcess table"));
-        &MD
+        TABLE.description()
     }
 
     fn initialize(values: &Values, _env: &Environment) -> Result<Self, String> {
@@ -103,10 +102,7 @@ impl Fmi2Model for TurningProcessFmu {
         self.process.set_time(t);
         if let Err(e) = self.process.step(h, &inputs) {
             self.process = saved;
-            return Err(match e {
-                TurningError::Input(_) => StepError::Discard(e.to_string()),
-                e => StepError::Error(e.to_string()),
-            });
+            return Err(Self::step_error(e));
         }
         TABLE.write_outputs(&self.process.outputs(), v);
         Ok(())
@@ -119,52 +115,5 @@ impl Fmi2Model for TurningProcessFmu {
 
     fn validate_state(&self) -> Result<(), String> {
         self.process.validate_state()
-    }
-}
-
-impl TableModel for TurningProcessFmu {
-    type Params = TurningParams;
-    type Inputs = TurningInputs;
-    type Outputs = TurningOutputs;
-    fn table() -> &'static Table<TurningParams, TurningInputs, TurningOutputs> {
-        &TABLE
-    }
-    fn parameters(&self) -> &TurningParams {
-        self.process.params()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use fmi2_export::table::checks;
-
-    #[test]
-    fn the_xml_holds_exactly_the_table() {
-        checks::description_matches_table::<TurningProcessFmu>().unwrap();
-    }
-
-    #[test]
-    fn every_parameter_set_through_the_api_reaches_the_core() {
-        checks::parameter_round_trips::<TurningProcessFmu>(&[]).unwrap();
-    }
-
-    #[test]
-    fn assignments_round_trip_and_cover_every_field() {
-        checks::assignments_round_trip::<TurningProcessFmu>(&TurningParams::default()).unwrap();
-        let p = TurningParams { depth: 2.0, process_damping: 3.0, edge_angle: 60.0, ..Default::default() };
-        checks::assignments_round_trip::<TurningProcessFmu>(&p).unwrap();
-        checks::parameter_coverage::<TurningProcessFmu>().unwrap();
-    }
-
-    #[test]
-    fn start_values_give_the_default_parameters() {
-        let v = Values::from_description(TurningProcessFmu::description());
-        assert_eq!(TABLE.read_parameters(&v).unwrap(), TurningParams::default());
-    }
-
-    #[test]
-    fn the_declared_work_bound_is_the_cores_cost() {
-        assert_eq!(checks::work_bound_matches_internal_steps::<TurningProcessFmu>(), Ok(true));
     }
 }

@@ -199,6 +199,10 @@ pub struct Row<S> {
     set: Setter<S>,
     /// An `f64` or `bool` field of [`Row::field`]: on the per-step [`Direct`] path.
     direct: bool,
+    /// A [`Row::computed`] row (its value goes through the model's own conversions; read by
+    /// `checks::start_values_are_the_defaults`).
+    #[cfg_attr(not(feature = "checks"), allow(dead_code))]
+    computed: bool,
 }
 
 impl<S> std::fmt::Debug for Row<S> {
@@ -232,6 +236,7 @@ impl<S: 'static> Row<S> {
                 Ok(())
             }),
             direct: T::DIRECT,
+            computed: false,
         }
     }
 
@@ -254,6 +259,7 @@ impl<S: 'static> Row<S> {
                 v => Err(mismatch("an enumeration value", v)),
             }),
             direct: false,
+            computed: false,
         }
     }
 
@@ -270,6 +276,7 @@ impl<S: 'static> Row<S> {
                 Ok(())
             }),
             direct: false,
+            computed: true,
         }
     }
 
@@ -339,12 +346,23 @@ pub struct Table<P, I, O> {
     pub header: Header,
     /// Rows (read through [`vars`](Self::vars): the per-step lists below are derived from them).
     vars: Variables<P, I, O>,
-    /// The declared work bound: (internal-step parameter, extra internal steps per call).
-    work_bound: Option<(&'static str, f64)>,
+    /// The declared work bound (see [`Table::work_bound_scaled`]).
+    work_bound: Option<WorkBound>,
+    /// The description with the default parameters, built on first use ([`Table::description`]).
+    description: std::sync::OnceLock<ModelDescription>,
     /// The per-step path: the indices of the input and output rows that are not on the
     /// [`Direct`] path (they go through [`Value`]s).
     other_inputs: Vec<usize>,
     other_outputs: Vec<usize>,
+}
+
+/// What a step costs, as [`Fmi2Model::internal_steps`](crate::Fmi2Model::internal_steps) counts
+/// it: `per · h / p + extra` internal steps, `p` the Real parameter `parameter`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct WorkBound {
+    parameter: &'static str,
+    per: f64,
+    extra: f64,
 }
 
 /// The indices of the rows that are not on the [`Direct`] path.
@@ -356,7 +374,7 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     /// A table.
     pub fn new(header: Header, vars: Variables<P, I, O>) -> Self {
         let (other_inputs, other_outputs) = (not_direct(&vars.inputs), not_direct(&vars.outputs));
-        Table { header, vars, work_bound: None, other_inputs, other_outputs }
+        Table { header, vars, work_bound: None, description: std::sync::OnceLock::new(), other_inputs, other_outputs }
     }
 
     /// The rows.
@@ -371,9 +389,33 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     /// the model's own [`Fmi2Model::internal_steps`](crate::Fmi2Model::internal_steps) (checked
     /// by [`checks::work_bound_matches_internal_steps`], feature `checks`), so that a master
     /// can refuse a too large step before instantiating, exactly as the layer would refuse it.
-    pub fn work_bound(mut self, parameter: &'static str, extra: f64) -> Self {
-        self.work_bound = Some((parameter, extra));
+    pub fn work_bound(self, parameter: &'static str, extra: f64) -> Self {
+        self.work_bound_scaled(parameter, 1.0, extra)
+    }
+
+    /// [`work_bound`](Self::work_bound) for a model whose step costs `per · h / p + extra`
+    /// internal steps (e.g. `FrohMracController`: a sample and a piece of the hold per sample
+    /// period `p`, `2 h / p + 2`). The annotation counts in steps of `p`, as
+    /// [`WorkBound`](model_description::WorkBound) does: `h / p + extra / per` of them, at most
+    /// `MAX_INTERNAL_STEPS_PER_CALL / per` per call, which a master refuses for exactly the `h`
+    /// the layer refuses. `per = 1` is [`work_bound`](Self::work_bound).
+    pub fn work_bound_scaled(mut self, parameter: &'static str, per: f64, extra: f64) -> Self {
+        assert!(per.is_finite() && per > 0.0, "work bound of {}: per = {per} must be finite and > 0", parameter);
+        self.work_bound = Some(WorkBound { parameter, per, extra });
         self
+    }
+
+    /// The model description with the default parameters `P::default()`, built on first use:
+    /// what the adapter's [`Fmi2Model::description`](crate::Fmi2Model::description) returns.
+    ///
+    /// # Panics
+    /// If the table makes no valid description (a bug its `description_matches_table` check
+    /// names).
+    pub fn description(&self) -> &ModelDescription {
+        self.description.get_or_init(|| {
+            self.model_description(&P::default())
+                .unwrap_or_else(|e| panic!("valid {} table: {e:?}", self.header.identifier))
+        })
     }
 
     /// The model description with the start values of `params` (and `I::default()` for inputs).
@@ -408,11 +450,11 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
             b = b.enumeration(t.name, t.description, &t.items);
         }
         b = b.default_experiment(start, stop, step);
-        if let Some((parameter, extra)) = self.work_bound {
+        if let Some(WorkBound { parameter, per, extra }) = self.work_bound {
             b = b.work_bound(model_description::WorkBound {
-                max_internal_steps_per_call: crate::MAX_INTERNAL_STEPS_PER_CALL,
+                max_internal_steps_per_call: crate::MAX_INTERNAL_STEPS_PER_CALL / per,
                 internal_step_parameter: parameter.into(),
-                extra_internal_steps_per_call: extra,
+                extra_internal_steps_per_call: extra / per,
             });
         }
         for v in vars {

@@ -393,21 +393,36 @@ fn many_instances_are_independent_across_threads() {
     }
 }
 
+/// A thousand instantiate → step → state → string → free cycles, every call checked: the
+/// statuses, the state handle made and nulled again, the string read, no message of the
+/// instances above fmi2OK, and every model freed (the oscillators alive on this thread are
+/// counted: a leaked instance or state fails here, not only under valgrind).
 #[test]
 fn thousand_instantiate_free_cycles() {
     let cb = callbacks(16);
-    for _ in 0..1000 {
-        let c = ready("cycle", &cb);
+    let live = common::live_models();
+    for k in 0..1000 {
+        let c = ready("cycle", &cb); // asserts non-null, setup, enter and exit fmi2OK
+        assert_eq!(common::live_models(), live + 1, "cycle {k}: one model after initialization");
         let mut st: fmi2FMUstate = ptr::null_mut();
+        let mut p: fmi2String = ptr::null();
         unsafe {
-            api::fmi2DoStep(c, 0.0, 1e-3, 1);
-            api::fmi2GetFMUstate(c, &mut st);
-            api::fmi2FreeFMUstate(c, &mut st);
-            let mut p: fmi2String = ptr::null();
-            api::fmi2GetString(c, &vr::LABEL, 1, &mut p);
+            assert_eq!(api::fmi2DoStep(c, 0.0, 1e-3, 1), fmi2OK, "cycle {k}: DoStep");
+            assert_eq!(api::fmi2GetFMUstate(c, &mut st), fmi2OK, "cycle {k}: GetFMUstate");
+            assert!(!st.is_null(), "cycle {k}: GetFMUstate gave no state");
+            assert_eq!(common::live_models(), live + 2, "cycle {k}: the state holds a copy of the model");
+            assert_eq!(api::fmi2FreeFMUstate(c, &mut st), fmi2OK, "cycle {k}: FreeFMUstate");
+            assert!(st.is_null(), "cycle {k}: FreeFMUstate left the handle set");
+            assert_eq!(common::live_models(), live + 1, "cycle {k}: FreeFMUstate freed no model");
+            assert_eq!(api::fmi2GetString(c, &vr::LABEL, 1, &mut p), fmi2OK, "cycle {k}: GetString");
+            assert!(!p.is_null(), "cycle {k}: GetString gave NULL");
+            assert_eq!(CStr::from_ptr(p).to_str(), Ok("osc"), "cycle {k}: GetString");
             api::fmi2FreeInstance(c);
         }
+        assert_eq!(common::live_models(), live, "cycle {k}: FreeInstance freed no model");
     }
+    let refusals: Vec<_> = messages("cycle").into_iter().filter(|m| m.0 != fmi2OK).collect();
+    assert!(refusals.is_empty(), "{refusals:?}");
 }
 
 #[test]

@@ -18,14 +18,25 @@
 //! * [`corrupted_states_after_steps`]: [`corrupted_states_never_panic_or_hang`] on a state
 //!   reached by stepping with every Real input at a given value.
 //!
-//! [`ready`] gives an initialized instance to the adapter's own tests.
+//! * [`start_values_are_the_defaults`]: the start values read back are the default parameters.
+//! * [`work_is`]: what the adapter says a step costs ([`Work`]) is what the model counts.
+//!
+//! [`adapter_tests!`](crate::adapter_tests!) runs them all as the tests of one adapter. The
+//! helpers in [`instances`] (re-exported here: [`vr`], [`ready`], [`ready_with`],
+//! [`initializing`], [`real`], [`set_real`], [`stepped`], [`Quiet`]) give instances to the
+//! adapter's own tests.
 
-use super::{Attrs, ChoiceType, Row, TableModel};
-use crate::instance::{Instance, LogLevel, LogSink};
+use super::{Attrs, ChoiceType, Row, Table, TableModel};
+use crate::instance::Instance;
 use crate::model::{Environment, Values};
 use model_description::{Causality, ModelDescription, ScalarType, Value, Variability};
 use serde::Serialize;
 use std::collections::BTreeMap;
+
+pub mod instances;
+mod suite;
+pub use instances::*;
+pub use suite::*;
 
 /// A value of a row that differs from `current` and stays inside the row's bounds.
 pub fn distinct_value(attrs: &Attrs, choice: Option<&ChoiceType>, current: &Value) -> Value {
@@ -197,24 +208,8 @@ pub fn direct_paths_match_rows<M: TableModel>() -> Result<(), String> {
     Ok(())
 }
 
-struct Collect(Vec<String>);
-impl LogSink for Collect {
-    fn emit(&mut self, _level: LogLevel, _category: &str, message: &str) {
-        self.0.push(message.to_string());
-    }
-}
-
-/// An initialized instance of `M` (defaults, no stop time) whose log messages are dropped.
-pub fn ready<M: crate::Fmi2Model>() -> Instance<M> {
-    let mut inst = Instance::<M>::new(Environment::default(), false, Box::new(Collect(Vec::new())));
-    inst.setup_experiment(0.0, None).expect("setup of a fresh instance");
-    inst.enter_initialization().expect("initialization mode of a fresh instance");
-    inst.exit_initialization().expect("initialization with the start values");
-    inst
-}
-
 /// The causality-input Real variables of `M`: (name, value reference).
-fn real_inputs<M: crate::Fmi2Model>() -> Vec<(String, u32)> {
+pub(crate) fn real_inputs<M: crate::Fmi2Model>() -> Vec<(String, u32)> {
     M::description()
         .variables()
         .iter()
@@ -251,8 +246,8 @@ pub fn non_finite_inputs_are_refused<M: crate::Fmi2Model>(h: f64) -> Result<(), 
     Ok(())
 }
 
-/// [`corrupted_states_never_panic_or_hang`] on the state reached after `steps` steps of `h`
-/// with every Real input at `input` (so the state holds history, not only start values).
+/// [`corrupted_states_never_panic_or_hang`] on the state of [`stepped`]`(input, steps, h)` (so
+/// the state holds history, not only start values).
 pub fn corrupted_states_after_steps<M: crate::Fmi2Model>(
     input: f64,
     steps: usize,
@@ -260,21 +255,13 @@ pub fn corrupted_states_after_steps<M: crate::Fmi2Model>(
     seed: u64,
     tries: usize,
 ) -> (usize, usize) {
-    let mut inst = ready::<M>();
-    for (name, vr) in real_inputs::<M>() {
-        inst.set("fmi2SetReal", ScalarType::Real, &[vr], &[Value::Real(input)])
-            .unwrap_or_else(|e| panic!("{name} = {input}: {e:?}"));
-    }
-    for k in 0..steps {
-        inst.do_step(k as f64 * h, h).expect("a step with the inputs held");
-    }
-    let bytes = inst.snapshot().serialize().expect("a serializable state");
+    let bytes = stepped::<M>(input, steps, h).snapshot().serialize().expect("a serializable state");
     corrupted_states_never_panic_or_hang::<M>(&bytes, seed, tries, ready::<M>, h)
 }
 
 /// Build the model through the instance API with `sets` applied before initialization.
 fn initialized<M: TableModel>(sets: &[(&Row<M::Params>, Value)]) -> Result<M::Params, String> {
-    let mut inst = Instance::<M>::new(Environment::default(), false, Box::new(Collect(Vec::new())));
+    let mut inst = Instance::<M>::new(Environment::default(), false, Box::new(Quiet));
     for (row, value) in sets {
         inst.set("fmi2Set", row.ty.api_type(), &[row.attrs.vr], std::slice::from_ref(value))
             .map_err(|e| format!("setting {} = {value:?}: {e:?}", row.attrs.name))?;
@@ -322,13 +309,33 @@ pub fn assignments_round_trip<M: TableModel>(p: &M::Params) -> Result<(), String
         let row = t.parameter(&name).ok_or_else(|| format!("{name}: assigned but not a parameter row"))?;
         values.set(row.attrs.vr, &value);
     }
-    let back = t.read_parameters(&values)?;
+    rows_agree(t, p, &t.read_parameters(&values)?, "assigned", |_, a, b| same(a, b))
+}
+
+/// Every parameter row gives the same value in `p` and `back` (`agree`), else an error naming
+/// the first that does not (`what` happened to `p`).
+fn rows_agree<P, I, O>(
+    t: &Table<P, I, O>,
+    p: &P,
+    back: &P,
+    what: &str,
+    agree: impl Fn(&Row<P>, &Value, &Value) -> bool,
+) -> Result<(), String> {
     for row in &t.vars.parameters {
-        if !same(&row.get(&back), &row.get(p)) {
-            return Err(format!("{}: assigned {:?}, read back {:?}", row.attrs.name, row.get(p), row.get(&back)));
+        if !agree(row, &row.get(back), &row.get(p)) {
+            return Err(format!("{}: {what} {:?}, read back {:?}", row.attrs.name, row.get(p), row.get(back)));
         }
     }
     Ok(())
+}
+
+/// The start values of the description, read into the parameter struct, are `P::default()`:
+/// every row the same value, bit for bit (computed rows, which go through the core's own
+/// conversions, to 1e-12 relative).
+pub fn start_values_are_the_defaults<M: TableModel>() -> Result<(), String> {
+    let t = M::table();
+    let back = t.read_parameters(&Values::from_description(M::description()))?;
+    rows_agree(t, &M::Params::default(), &back, "default", |r, a, b| if r.computed { same(a, b) } else { a == b })
 }
 
 fn leaves(prefix: &str, v: &serde_json::Value, out: &mut BTreeMap<String, serde_json::Value>) {
@@ -429,12 +436,17 @@ pub fn corrupted_states_never_panic_or_hang<M: crate::Fmi2Model>(
     (refused, loaded)
 }
 
+/// The communication step sizes at which the work checks count a step's internal steps.
+pub(crate) const STEP_SIZES: [f64; 5] = [1e-6, 1e-4, 1e-2, 1.0, 1e3];
+
 /// The work bound declared in `M`'s description (if any) is the model's own
 /// [`Fmi2Model::internal_steps`](crate::Fmi2Model::internal_steps): for the start value of its
 /// internal-step parameter and for a second value inside the parameter's bounds, models built
 /// from those values report the declared `h / p + extra` (to 1e-9 relative) for step sizes from
-/// 1 µs to 1000 s. So a master that refuses a step by the annotation refuses exactly what the
-/// layer refuses. Returns whether a bound is declared.
+/// 1 µs to 1000 s, counted in the layer's internal steps (times
+/// `MAX_INTERNAL_STEPS_PER_CALL / maxInternalStepsPerCall`, 1 unless the bound is
+/// [scaled](super::Table::work_bound_scaled)). So a master that refuses a step by the annotation
+/// refuses exactly what the layer refuses. Returns whether a bound is declared.
 pub fn work_bound_matches_internal_steps<M: crate::Fmi2Model>() -> Result<bool, String> {
     let md = M::description();
     let Some(w) = md.work_bound() else { return Ok(false) };
@@ -443,13 +455,15 @@ pub fn work_bound_matches_internal_steps<M: crate::Fmi2Model>() -> Result<bool, 
         return Err(format!("{}: no Real start value", v.name));
     };
     let (lo, hi) = v.range();
+    // the annotation counts steps of p; the layer refuses beyond MAX_INTERNAL_STEPS_PER_CALL
+    let per = crate::MAX_INTERNAL_STEPS_PER_CALL / w.max_internal_steps_per_call;
     let p1 = if hi.is_none_or(|hi| 2.0 * p0 <= hi) { 2.0 * p0 } else { (p0 + lo.unwrap_or(0.0)) / 2.0 };
     for p in [p0, p1] {
         let mut values = Values::from_description(md);
         values.set_real(v.value_reference, p);
         let model = M::initialize(&values, &Environment::default()).map_err(|e| format!("{} = {p}: {e}", v.name))?;
-        for h in [1e-6, 1e-4, 1e-2, 1.0, 1e3] {
-            let (declared, actual) = (w.cost(h, p), model.internal_steps(h));
+        for h in STEP_SIZES {
+            let (declared, actual) = (per * w.cost(h, p), model.internal_steps(h));
             if (declared - actual).abs() > 1e-9 * actual.abs().max(1.0) {
                 return Err(format!(
                     "{} = {p}, h = {h}: the description declares {declared} internal steps, the model counts {actual}",

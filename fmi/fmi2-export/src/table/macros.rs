@@ -123,3 +123,71 @@ macro_rules! __access {
         $crate::table::Row::<$S>::field($attrs, |s: &$S| &s.$($path)+, |s: &mut $S| &mut s.$($path)+)
     };
 }
+
+/// The shape every FMU adapter repeats around its [`Table`](crate::Table): its
+/// [`TableModel`](crate::table::TableModel) impl, the public `parameter_assignments` of its
+/// parameter struct, and the mapping of its core's step errors to FMI statuses.
+///
+/// ```text
+/// fmi2_export::adapter! {
+///     model: MillingPlant,
+///     table: TABLE as Table<PlantParams, PlantInputs, PlantOutputs>,
+///     parameters: |m| m.plant.params(),
+///     input_errors: PlantError::Input,
+/// }
+/// ```
+/// gives
+/// * `impl TableModel for MillingPlant` with the three types, `table()` = `&TABLE` and
+///   `parameters()` = the closure's body with `m` = `self`;
+/// * `pub fn parameter_assignments(p: &PlantParams) -> Vec<(String, Value)>`: what a master
+///   sets (`--set NAME=VALUE`, SSP parameter bindings) to run the FMU with `p`;
+/// * with `input_errors` (a tuple variant of the core's error enum):
+///   `MillingPlant::step_error(e: PlantError) -> StepError`, `StepError::Discard` for that
+///   variant (the step was not taken, the master may retry with other inputs) and
+///   `StepError::Error` for every other, each with the error's message.
+///
+/// The adapter's `Fmi2Model::description` is `TABLE.description()`.
+#[macro_export]
+macro_rules! adapter {
+    (
+        model: $M:ty,
+        table: $table:ident as Table<$P:ty, $I:ty, $O:ty>,
+        parameters: |$m:ident| $params:expr
+        $(, input_errors: $E:ident :: $input:ident)?
+        $(,)?
+    ) => {
+        impl $crate::table::TableModel for $M {
+            type Params = $P;
+            type Inputs = $I;
+            type Outputs = $O;
+            fn table() -> &'static $crate::Table<$P, $I, $O> {
+                &$table
+            }
+            fn parameters(&self) -> &$P {
+                let $m = self;
+                $params
+            }
+        }
+
+        /// The FMU's parameters holding `p`, as (variable name, value) pairs: what a master sets
+        /// (`--set NAME=VALUE`, SSP parameter bindings) to run the FMU with `p`. Generated from
+        /// the same table as `modelDescription.xml`.
+        pub fn parameter_assignments(p: &$P) -> ::std::vec::Vec<(::std::string::String, $crate::model_description::Value)> {
+            $table.assignments(p)
+        }
+
+        $(
+            impl $M {
+                /// A step error of the core as the step's FMI status: `fmi2Discard` for an input
+                /// error (the step was not taken; the master may retry with other inputs),
+                /// `fmi2Error` for any other; the message is the error's.
+                fn step_error(e: $E) -> $crate::StepError {
+                    match e {
+                        e @ $E::$input(..) => $crate::StepError::Discard(e.to_string()),
+                        e => $crate::StepError::Error(e.to_string()),
+                    }
+                }
+            }
+        )?
+    };
+}

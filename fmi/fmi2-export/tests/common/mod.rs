@@ -8,6 +8,7 @@ use fmi2_export::model_description::{
 };
 use fmi2_export::{Environment, Fmi2Model, ModelLog, Severity, StepError, Values};
 use serde::{Deserialize, Serialize};
+use std::cell::Cell;
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::sync::{Mutex, OnceLock};
 
@@ -34,6 +35,43 @@ pub struct Oscillator {
     k: f64,
     c: f64,
     steps: i32,
+    #[serde(skip)]
+    alive: Alive,
+}
+
+thread_local! {
+    static LIVE: Cell<i64> = const { Cell::new(0) };
+}
+
+/// Oscillators made (initialized, cloned into a state, deserialized) minus those dropped, on
+/// this thread: what a test that frees everything it made expects back at its start value.
+pub fn live_models() -> i64 {
+    LIVE.with(Cell::get)
+}
+
+/// Counts its oscillator in [`live_models`] while it exists.
+struct Alive;
+impl Alive {
+    fn new() -> Self {
+        LIVE.with(|n| n.set(n.get() + 1));
+        Alive
+    }
+}
+impl Default for Alive {
+    /// A deserialized oscillator (serde skips the field) counts too.
+    fn default() -> Self {
+        Alive::new()
+    }
+}
+impl Clone for Alive {
+    fn clone(&self) -> Self {
+        Alive::new()
+    }
+}
+impl Drop for Alive {
+    fn drop(&mut self) {
+        LIVE.with(|n| n.set(n.get() - 1));
+    }
 }
 
 impl Fmi2Model for Oscillator {
@@ -72,6 +110,7 @@ impl Fmi2Model for Oscillator {
             k: values.real(vr::K),
             c: if values.boolean(vr::DAMPED) { 0.5 } else { 0.0 },
             steps: 0,
+            alive: Alive::new(),
         })
     }
 
