@@ -28,6 +28,7 @@
 //!
 //! The crate is a core: plain types, `thiserror` errors, no FMI.
 
+mod bracket;
 pub mod exact;
 pub mod lobes;
 pub mod milling;
