@@ -74,22 +74,22 @@ pub(crate) struct Crossing {
     pub est: f64,
     /// The root lies in `[ω_index, ω_index+1]`.
     pub index: usize,
+    /// The caller's label (e.g. the eigenvalue branch).
+    pub tag: usize,
 }
 
 /// Append to `out` every crossing of `g(ω) = ωτ/2 − φ(ω) − π/2` through a multiple `jπ` in the
 /// intervals `valid(i)` of the grid `omega` (unwrapped phase `phase`, magnitude `mag(i)`) where
 /// `side·sin(ωτ/2)·(−1)^j < 0` (a positive depth); the estimate is
 /// `1/(scale·|sin(ωτ/2)|·|p|)` at the linearly interpolated crossing, `|p|` interpolated
-/// geometrically.
-#[allow(clippy::too_many_arguments)]
+/// geometrically. Each crossing carries `tag`.
 pub(crate) fn phase_crossings(
-    omega: &[f64],
-    phase: &[f64],
+    (omega, phase): (&[f64], &[f64]),
     mag: impl Fn(usize) -> f64,
     tau: f64,
-    side: f64,
-    scale: f64,
+    (side, scale): (f64, f64),
     valid: impl Fn(usize) -> bool,
+    tag: usize,
     out: &mut Vec<Crossing>,
 ) {
     let gfun = |i: usize| omega[i] * tau / 2.0 - phase[i] - PI / 2.0;
@@ -105,7 +105,7 @@ pub(crate) fn phase_crossings(
                 let sign = if j.rem_euclid(2) == 0 { 1.0 } else { -1.0 };
                 if side * s_half * sign < 0.0 {
                     let m = mag(i).powf(1.0 - t) * mag(i + 1).powf(t);
-                    out.push(Crossing { est: 1.0 / (scale * s_half.abs() * m), index: i });
+                    out.push(Crossing { est: 1.0 / (scale * s_half.abs() * m), index: i, tag });
                 }
             }
         }
@@ -113,22 +113,27 @@ pub(crate) fn phase_crossings(
     }
 }
 
-/// Refine every crossing whose estimate is within 5 % of the smallest; `refine` returns the exact
-/// `(ω, depth)` of a crossing or `None`. The smallest exact depth wins.
+/// Refine the crossings in order of their estimate; `refine` returns the exact `(ω, depth)` of a
+/// crossing or `None` (no root, or one the caller rejects). Every crossing whose estimate is
+/// within 5 % of the first one refined successfully is refined, and the smallest exact depth
+/// wins.
 pub(crate) fn refine_best(
     cands: &[Crossing],
     mut refine: impl FnMut(&Crossing) -> Option<(f64, f64)>,
 ) -> Option<(f64, f64)> {
-    let best_est = cands.iter().map(|c| c.est).min_by(f64::total_cmp)?;
+    let mut order: Vec<&Crossing> = cands.iter().collect();
+    order.sort_by(|a, b| a.est.total_cmp(&b.est));
     let mut best: Option<(f64, f64)> = None;
-    for c in cands {
-        if c.est > 1.05 * best_est {
-            continue;
+    let mut limit = f64::INFINITY;
+    for c in order {
+        if c.est > limit {
+            break;
         }
-        if let Some((w, depth)) = refine(c)
-            && best.is_none_or(|b| depth < b.1)
-        {
-            best = Some((w, depth));
+        if let Some((w, depth)) = refine(c) {
+            limit = limit.min(1.05 * c.est);
+            if best.is_none_or(|b| depth < b.1) {
+                best = Some((w, depth));
+            }
         }
     }
     best
@@ -188,15 +193,9 @@ mod tests {
 
     #[test]
     fn the_grid_is_refined_where_asked() {
-        let g = bisect_grid(
-            (1.0, 100.0),
-            3,
-            1000,
-            |w| Ok::<f64, ()>(w),
-            |wl, _, wr, _| wl < 10.0 && wr - wl > 1.0,
-            || (),
-        )
-        .unwrap();
+        let g =
+            bisect_grid((1.0, 100.0), 3, 1000, |w| Ok::<f64, ()>(w), |wl, _, wr, _| wl < 10.0 && wr - wl > 1.0, || ())
+                .unwrap();
         let w: Vec<f64> = g.iter().map(|p| p.0).collect();
         assert!(w.windows(2).all(|p| p[1] > p[0]));
         assert!(w.windows(2).filter(|p| p[0] < 10.0).all(|p| p[1] - p[0] <= 1.0));

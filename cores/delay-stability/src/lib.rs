@@ -30,6 +30,7 @@
 
 mod bracket;
 pub mod exact;
+pub mod frequency;
 pub mod lobes;
 pub mod milling;
 pub mod oscillator;

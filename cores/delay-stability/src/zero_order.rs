@@ -305,7 +305,8 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
         let g = &self.grid;
         let mut cands = Vec::new();
         let mag = |i: usize| g.frf[i].norm();
-        phase_crossings(&g.omega, &g.phase, mag, tau, c.alpha0.signum(), 2.0 * c.kt * c.alpha0.abs(), |_| true, &mut cands);
+        let side_scale = (c.alpha0.signum(), 2.0 * c.kt * c.alpha0.abs());
+        phase_crossings((&g.omega, &g.phase), mag, tau, side_scale, |_| true, 0, &mut cands);
         match refine_best(&cands, |x| self.refine(tau, x.index)) {
             Some((w, depth)) => CriticalPoint { rpm, depth, chatter_hz: w / (2.0 * PI) },
             None => none,
@@ -315,7 +316,9 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
     /// Root of `sin g(ω)` in grid bracket `i` with the exact FRF; returns (ω, depth).
     fn refine(&self, tau: f64, i: usize) -> Option<(f64, f64)> {
         // sin g = −cos(ωτ/2 − arg Φ) = −Re(e^{iωτ/2} Φ̄)/|Φ|
-        let s = |w: f64, phi: Complex64| -> f64 { -(Complex64::from_polar(1.0, w * tau / 2.0) * phi.conj()).re / phi.norm() };
+        let s = |w: f64, phi: Complex64| -> f64 {
+            -(Complex64::from_polar(1.0, w * tau / 2.0) * phi.conj()).re / phi.norm()
+        };
         let g = &self.grid;
         let (a, b) = (g.omega[i], g.omega[i + 1]);
         let w = illinois(a, s(a, g.frf[i]), b, s(b, g.frf[i + 1]), |w| s(w, (self.frf)(w)))?;
