@@ -28,7 +28,9 @@
 //!
 //! The crate is a core: plain types, `thiserror` errors, no FMI.
 
+mod bracket;
 pub mod exact;
+pub mod frequency;
 pub mod lobes;
 pub mod milling;
 pub mod oscillator;

@@ -58,6 +58,7 @@
 //! grid interval (a lobe nose tangent to the speed line) can be missed; its depth then differs
 //! from a neighbouring bracketed root by less than the interpolation tolerance.
 
+use crate::bracket::{bisect_grid, illinois, phase_crossings, refine_best, unwrap_phase};
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::f64::consts::PI;
@@ -192,47 +193,29 @@ impl FrfGrid {
         if !(opt.f_lo > 0.0 && opt.f_hi > opt.f_lo && opt.f_hi.is_finite()) {
             return Err(LobeError::InvalidBand { f_lo: opt.f_lo, f_hi: opt.f_hi });
         }
-        let eval = |w: f64| -> Result<(f64, Complex64), LobeError> {
+        let eval = |w: f64| -> Result<Complex64, LobeError> {
             let v = frf(w);
             if v.re.is_finite() && v.im.is_finite() && v.norm() > 0.0 {
-                Ok((w, v))
+                Ok(v)
             } else {
                 Err(LobeError::NonFiniteFrf { freq_hz: w / (2.0 * PI) })
             }
         };
-        let n0 = opt.coarse_points.max(2);
-        let (w0, w1) = (2.0 * PI * opt.f_lo, 2.0 * PI * opt.f_hi);
         let max_dw = 1.0 / opt.tau_max.max(1e-300);
-        let split = |l: &(f64, Complex64), r: &(f64, Complex64)| {
-            let dphi = (r.1 * l.1.conj()).arg().abs();
-            let dmag = (r.1.norm() / l.1.norm()).ln().abs();
-            let dw = r.0 - l.0;
-            (dphi > opt.max_phase_step || dmag > opt.max_log_mag_step || dw > max_dw) && dw > 1e-10 * r.0
+        let split = |wl: f64, l: &Complex64, wr: f64, r: &Complex64| {
+            let dphi = (r * l.conj()).arg().abs();
+            let dmag = (r.norm() / l.norm()).ln().abs();
+            dphi > opt.max_phase_step || dmag > opt.max_log_mag_step || wr - wl > max_dw
         };
-        let mut out = vec![eval(w0)?];
-        for i in 1..n0 {
-            let w = w0 * (w1 / w0).powf(i as f64 / (n0 - 1) as f64);
-            let mut stack = vec![eval(w)?];
-            while let Some(r) = stack.last().copied() {
-                let l = *out.last().expect("non-empty");
-                if split(&l, &r) {
-                    stack.push(eval(0.5 * (l.0 + r.0))?);
-                } else {
-                    out.push(r);
-                    stack.pop();
-                }
-                if out.len() + stack.len() > opt.max_points {
-                    return Err(LobeError::TooManyPoints { max_points: opt.max_points });
-                }
-            }
-        }
-        let mut phase = Vec::with_capacity(out.len());
-        let mut acc = out[0].1.arg();
-        phase.push(acc);
-        for k in 1..out.len() {
-            acc += (out[k].1 * out[k - 1].1.conj()).arg();
-            phase.push(acc);
-        }
+        let out = bisect_grid(
+            (2.0 * PI * opt.f_lo, 2.0 * PI * opt.f_hi),
+            opt.coarse_points,
+            opt.max_points,
+            eval,
+            split,
+            || LobeError::TooManyPoints { max_points: opt.max_points },
+        )?;
+        let phase = unwrap_phase(out.iter().map(|p| p.1));
         Ok(FrfGrid { omega: out.iter().map(|p| p.0).collect(), frf: out.iter().map(|p| p.1).collect(), phase })
     }
 
@@ -319,89 +302,26 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
             return none;
         }
         let tau = c.delay(rpm);
-        let scale = 2.0 * c.kt * c.alpha0.abs();
-        let side = c.alpha0.signum();
         let g = &self.grid;
-        let gfun = |i: usize| g.omega[i] * tau / 2.0 - g.phase[i] - PI / 2.0;
-        // candidates (estimated depth, bracket index)
-        let mut cands: Vec<(f64, usize)> = Vec::new();
-        let mut g_prev = gfun(0);
-        for i in 0..g.len() - 1 {
-            let g_next = gfun(i + 1);
-            let (m0, m1) = ((g_prev / PI).floor() as i64, (g_next / PI).floor() as i64);
-            if m0 != m1 {
-                for j in m0.min(m1) + 1..=m0.max(m1) {
-                    let t = (j as f64 * PI - g_prev) / (g_next - g_prev);
-                    let w = g.omega[i] + t * (g.omega[i + 1] - g.omega[i]);
-                    let s_half = (w * tau / 2.0).sin();
-                    let sign = if j.rem_euclid(2) == 0 { 1.0 } else { -1.0 };
-                    if side * s_half * sign < 0.0 {
-                        let mag = g.frf[i].norm().powf(1.0 - t) * g.frf[i + 1].norm().powf(t);
-                        cands.push((1.0 / (scale * s_half.abs() * mag), i));
-                    }
-                }
-            }
-            g_prev = g_next;
+        let mut cands = Vec::new();
+        let mag = |i: usize| g.frf[i].norm();
+        let side_scale = (c.alpha0.signum(), 2.0 * c.kt * c.alpha0.abs());
+        phase_crossings((&g.omega, &g.phase), mag, tau, side_scale, |_| true, 0, &mut cands);
+        match refine_best(&cands, |x| self.refine(tau, x.index)) {
+            Some((w, depth)) => CriticalPoint { rpm, depth, chatter_hz: w / (2.0 * PI) },
+            None => none,
         }
-        let Some(best_est) = cands.iter().map(|c| c.0).min_by(f64::total_cmp) else {
-            return none;
-        };
-        let mut best = none;
-        for &(est, i) in &cands {
-            if est > 1.05 * best_est {
-                continue;
-            }
-            match self.refine(tau, i) {
-                Some((w, depth)) if depth < best.depth => {
-                    best = CriticalPoint { rpm, depth, chatter_hz: w / (2.0 * PI) };
-                }
-                _ => {}
-            }
-        }
-        best
     }
 
     /// Root of `sin g(ω)` in grid bracket `i` with the exact FRF; returns (ω, depth).
     fn refine(&self, tau: f64, i: usize) -> Option<(f64, f64)> {
+        // sin g = −cos(ωτ/2 − arg Φ) = −Re(e^{iωτ/2} Φ̄)/|Φ|
         let s = |w: f64, phi: Complex64| -> f64 {
-            // sin g = −cos(ωτ/2 − arg Φ) = −Re(e^{iωτ/2} Φ̄)/|Φ|
             -(Complex64::from_polar(1.0, w * tau / 2.0) * phi.conj()).re / phi.norm()
         };
         let g = &self.grid;
-        let (mut a, mut b) = (g.omega[i], g.omega[i + 1]);
-        let (mut fa, mut fb) = (s(a, g.frf[i]), s(b, g.frf[i + 1]));
-        let mut w = 0.5 * (a + b);
-        let mut iterations = 200;
-        if fa * fb > 0.0 {
-            // a root exactly on a grid point (up to rounding) is still a root
-            if fa.abs().min(fb.abs()) > 1e-9 {
-                return None;
-            }
-            w = if fa.abs() < fb.abs() { a } else { b };
-            iterations = 0;
-        }
-        for _ in 0..iterations {
-            // Illinois regula falsi: b is the newest point, [a, b] always brackets the root.
-            w = (a * fb - b * fa) / (fb - fa);
-            if !w.is_finite() || w <= a.min(b) || w >= a.max(b) {
-                w = 0.5 * (a + b);
-            }
-            let fw = s(w, (self.frf)(w));
-            if fw == 0.0 {
-                break;
-            }
-            if fw * fb < 0.0 {
-                a = b;
-                fa = fb;
-            } else {
-                fa *= 0.5;
-            }
-            b = w;
-            fb = fw;
-            if (b - a).abs() < 1e-12 * w {
-                break;
-            }
-        }
+        let (a, b) = (g.omega[i], g.omega[i + 1]);
+        let w = illinois(a, s(a, g.frf[i]), b, s(b, g.frf[i + 1]), |w| s(w, (self.frf)(w)))?;
         let phi = (self.frf)(w);
         let f = (Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau)) * phi;
         let depth = -1.0 / (self.cutting.kt * self.cutting.alpha0 * f.re);
@@ -421,28 +341,9 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
             .unwrap_or(CriticalPoint { rpm: f64::NAN, depth: f64::INFINITY, chatter_hz: f64::NAN })
     }
 
-    /// b_min and b_max of a computed diagram, each refined by golden-section search on the exact
-    /// per-speed depth within one grid step of the best grid point (clamped to the range).
+    /// b_min and b_max of a computed diagram ([`extremes`]).
     pub fn extremes(&self, diagram: &[CriticalPoint]) -> Option<Extremes> {
-        if diagram.is_empty() {
-            return None;
-        }
-        let lo = diagram.first()?.rpm;
-        let hi = diagram.last()?.rpm;
-        let imin = (0..diagram.len()).min_by(|&a, &b| diagram[a].depth.total_cmp(&diagram[b].depth))?;
-        let imax = (0..diagram.len()).max_by(|&a, &b| diagram[a].depth.total_cmp(&diagram[b].depth))?;
-        let bracket = |i: usize| {
-            let l = if i > 0 { diagram[i - 1].rpm } else { lo };
-            let r = if i + 1 < diagram.len() { diagram[i + 1].rpm } else { hi };
-            (l, r)
-        };
-        let refine = |i: usize, sign: f64| {
-            let (l, r) = bracket(i);
-            let p = golden(|n| sign * self.critical_depth(n).depth, l, r, 1e-6);
-            let cp = self.critical_depth(p);
-            if sign * cp.depth < sign * diagram[i].depth { cp } else { diagram[i] }
-        };
-        Some(Extremes { min: refine(imin, 1.0), max: refine(imax, -1.0) })
+        extremes(diagram, |n| self.critical_depth(n))
     }
 
     /// Classic lobes `k = 0..=k_max` from every grid frequency with `α₀ Re Φ < 0`. For `α₀ < 0`
@@ -470,6 +371,32 @@ impl<F: Fn(f64) -> Complex64 + Sync> LobeProblem<F> {
             })
             .collect()
     }
+}
+
+/// b_min and b_max of a computed diagram, each refined by golden-section search on the exact
+/// per-speed depth `depth_at` within one grid step of the best grid point (clamped to the range).
+/// Shared by every solver that gives an exact depth per speed ([`LobeProblem`],
+/// [`crate::frequency::ZeroOrder2d`], [`crate::frequency::MultiFrequency`]).
+pub fn extremes(diagram: &[CriticalPoint], depth_at: impl Fn(f64) -> CriticalPoint) -> Option<Extremes> {
+    if diagram.is_empty() {
+        return None;
+    }
+    let lo = diagram.first()?.rpm;
+    let hi = diagram.last()?.rpm;
+    let imin = (0..diagram.len()).min_by(|&a, &b| diagram[a].depth.total_cmp(&diagram[b].depth))?;
+    let imax = (0..diagram.len()).max_by(|&a, &b| diagram[a].depth.total_cmp(&diagram[b].depth))?;
+    let bracket = |i: usize| {
+        let l = if i > 0 { diagram[i - 1].rpm } else { lo };
+        let r = if i + 1 < diagram.len() { diagram[i + 1].rpm } else { hi };
+        (l, r)
+    };
+    let refine = |i: usize, sign: f64| {
+        let (l, r) = bracket(i);
+        let p = golden(|n| sign * depth_at(n).depth, l, r, 1e-6);
+        let cp = depth_at(p);
+        if sign * cp.depth < sign * diagram[i].depth { cp } else { diagram[i] }
+    };
+    Some(Extremes { min: refine(imin, 1.0), max: refine(imax, -1.0) })
 }
 
 /// Golden-section minimisation of a unimodal `f` on `[a, b]` to width `tol`.

@@ -1,0 +1,198 @@
+//! The frequency grid of a receptance and the eigenvalue branches on it (parent module docs).
+
+use super::{Receptance, eig2};
+use crate::bracket::{Crossing, bisect_grid, illinois, phase_crossings, refine_best, unwrap_phase};
+use crate::zero_order::{GridOptions, LobeError};
+use nalgebra::Matrix2;
+use num_complex::Complex64;
+use std::f64::consts::PI;
+
+/// An eigenvalue (or entry) this much smaller than the largest at the same frequency is not
+/// followed (its phase is not meaningful).
+const NEGLIGIBLE: f64 = 1e-9;
+
+/// G on the adaptive grid: frequencies \[rad/s\] and values.
+pub(crate) struct Sampled {
+    pub omega: Vec<f64>,
+    pub g: Vec<Matrix2<Complex64>>,
+}
+
+/// Phase and log-magnitude steps between two values, or `None` where either is negligible
+/// against `scale`.
+fn steps(l: Complex64, r: Complex64, scale: f64) -> Option<(f64, f64)> {
+    let (nl, nr) = (l.norm(), r.norm());
+    (nl > NEGLIGIBLE * scale && nr > NEGLIGIBLE * scale).then(|| ((r * l.conj()).arg().abs(), (nr / nl).ln().abs()))
+}
+
+/// The two eigenvalues of `r` paired with those of `l` (the pairing with the smaller distance).
+fn paired(l: [Complex64; 2], r: [Complex64; 2]) -> [Complex64; 2] {
+    if (r[0] - l[0]).norm() + (r[1] - l[1]).norm() <= (r[1] - l[0]).norm() + (r[0] - l[1]).norm() {
+        r
+    } else {
+        [r[1], r[0]]
+    }
+}
+
+/// Sample G adaptively (parent module docs): every entry and both eigenvalues of `hbar·G` change
+/// by at most the phase and log-magnitude steps of `opt` between neighbours, and
+/// `Δω ≤ 1/τ_max`.
+pub(crate) fn sample<R: Receptance + ?Sized>(
+    frf: &R,
+    hbar: &Matrix2<Complex64>,
+    opt: &GridOptions,
+) -> Result<Sampled, LobeError> {
+    if !(opt.f_lo > 0.0 && opt.f_hi > opt.f_lo && opt.f_hi.is_finite()) {
+        return Err(LobeError::InvalidBand { f_lo: opt.f_lo, f_hi: opt.f_hi });
+    }
+    let eval = |w: f64| -> Result<(Matrix2<Complex64>, [Complex64; 2]), LobeError> {
+        let g = frf.receptance(w);
+        if g.iter().all(|v| v.re.is_finite() && v.im.is_finite()) && g.iter().any(|v| v.norm() > 0.0) {
+            Ok((g, eig2(&(hbar * g))))
+        } else {
+            Err(LobeError::NonFiniteFrf { freq_hz: w / (2.0 * PI) })
+        }
+    };
+    let max_dw = 1.0 / opt.tau_max.max(1e-300);
+    let too_big =
+        |s: Option<(f64, f64)>| s.is_some_and(|(dp, dm)| dp > opt.max_phase_step || dm > opt.max_log_mag_step);
+    let split =
+        |wl: f64, l: &(Matrix2<Complex64>, [Complex64; 2]), wr: f64, r: &(Matrix2<Complex64>, [Complex64; 2])| {
+            if wr - wl > max_dw {
+                return true;
+            }
+            let gs = l.0.iter().chain(r.0.iter()).map(|v| v.norm()).fold(0.0, f64::max);
+            if l.0.iter().zip(r.0.iter()).any(|(a, b)| too_big(steps(*a, *b, gs))) {
+                return true;
+            }
+            let rp = paired(l.1, r.1);
+            let ps = l.1[0].norm().max(rp[0].norm());
+            (0..2).any(|j| too_big(steps(l.1[j], rp[j], ps)))
+        };
+    let out = bisect_grid(
+        (2.0 * PI * opt.f_lo, 2.0 * PI * opt.f_hi),
+        opt.coarse_points,
+        opt.max_points,
+        eval,
+        split,
+        || LobeError::TooManyPoints { max_points: opt.max_points },
+    )?;
+    Ok(Sampled { omega: out.iter().map(|p| p.0).collect(), g: out.into_iter().map(|p| p.1.0).collect() })
+}
+
+/// Eigenvalue branches on a frequency grid: `p[b][i]` is branch b at `omega[i]`.
+#[derive(Clone, Debug)]
+pub(crate) struct Branches {
+    pub omega: Vec<f64>,
+    p: Vec<Vec<Complex64>>,
+    phase: Vec<Vec<f64>>,
+    present: Vec<Vec<bool>>,
+}
+
+/// Match the eigenvalues `cur` to the predictions `pred` (greedy on the distance, smallest first;
+/// exhaustive for two): `out[b]` continues branch b.
+fn assign(pred: &[Complex64], cur: &[Complex64]) -> Vec<Complex64> {
+    let n = pred.len();
+    if n == 2 {
+        let p = paired([pred[0], pred[1]], [cur[0], cur[1]]);
+        return p.to_vec();
+    }
+    let mut pairs: Vec<(f64, usize, usize)> =
+        (0..n).flat_map(|b| (0..n).map(move |e| (b, e))).map(|(b, e)| ((cur[e] - pred[b]).norm(), b, e)).collect();
+    pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let (mut used_b, mut used_e) = (vec![false; n], vec![false; n]);
+    let mut out = vec![Complex64::new(0.0, 0.0); n];
+    for (_, b, e) in pairs {
+        if !used_b[b] && !used_e[e] {
+            used_b[b] = true;
+            used_e[e] = true;
+            out[b] = cur[e];
+        }
+    }
+    out
+}
+
+impl Branches {
+    /// Follow the eigenvalues `eigs[i]` (all of the same length) along `omega` by nearest matching
+    /// to the linear extrapolation of each branch.
+    pub fn track(omega: Vec<f64>, eigs: Vec<Vec<Complex64>>) -> Branches {
+        let n = eigs.first().map_or(0, Vec::len);
+        let mut p: Vec<Vec<Complex64>> = vec![Vec::with_capacity(omega.len()); n];
+        for (i, e) in eigs.iter().enumerate() {
+            let next = if i == 0 {
+                e.clone()
+            } else {
+                let pred: Vec<Complex64> = (0..n)
+                    .map(|b| {
+                        let last = p[b][i - 1];
+                        if i < 2 {
+                            return last;
+                        }
+                        let r = (omega[i] - omega[i - 1]) / (omega[i - 1] - omega[i - 2]);
+                        last + (last - p[b][i - 2]) * r.min(1.0)
+                    })
+                    .collect();
+                assign(&pred, e)
+            };
+            for (b, v) in next.into_iter().enumerate() {
+                p[b].push(v);
+            }
+        }
+        let present = (0..omega.len())
+            .map(|i| {
+                let big = (0..n).map(|b| p[b][i].norm()).fold(0.0, f64::max);
+                (0..n).map(|b| p[b][i].norm() > NEGLIGIBLE * big).collect::<Vec<bool>>()
+            })
+            .collect::<Vec<_>>();
+        let present = (0..n).map(|b| present.iter().map(|row| row[b]).collect()).collect();
+        let phase = p.iter().map(|pb| unwrap_phase(pb.iter().copied())).collect();
+        Branches { omega, p, phase, present }
+    }
+
+    /// Number of branches.
+    pub fn len(&self) -> usize {
+        self.p.len()
+    }
+
+    /// The smallest critical depth at delay `tau` as `(ω, depth)`; `eig_at(ω)` gives the exact
+    /// eigenvalues at ω, `accept(ω, p)` may reject a root (parent module docs).
+    pub fn critical(
+        &self,
+        tau: f64,
+        eig_at: impl Fn(f64) -> Vec<Complex64>,
+        accept: impl Fn(f64, Complex64) -> bool,
+    ) -> Option<(f64, f64)> {
+        let mut cands: Vec<Crossing> = Vec::new();
+        for b in 0..self.len() {
+            let (pb, ok) = (&self.p[b], &self.present[b]);
+            let valid = |i: usize| ok[i] && ok[i + 1];
+            phase_crossings((&self.omega, &self.phase[b]), |i| pb[i].norm(), tau, (-1.0, 2.0), valid, b, &mut cands);
+        }
+        refine_best(&cands, |c| {
+            self.refine(c.tag, c.index, tau, &eig_at).filter(|r| accept(r.0, r.2)).map(|r| (r.0, r.1))
+        })
+    }
+
+    /// Root of `sin g` of branch `b` in grid interval `i` with the exact eigenvalues: (ω, depth, p).
+    fn refine(
+        &self,
+        b: usize,
+        i: usize,
+        tau: f64,
+        eig_at: &impl Fn(f64) -> Vec<Complex64>,
+    ) -> Option<(f64, f64, Complex64)> {
+        let (wa, wb) = (self.omega[i], self.omega[i + 1]);
+        let (pa, pb) = (self.p[b][i], self.p[b][i + 1]);
+        let pick = |w: f64| -> Complex64 {
+            let guess = pa + (pb - pa) * ((w - wa) / (wb - wa));
+            let e = eig_at(w);
+            e.into_iter().min_by(|x, y| (x - guess).norm().total_cmp(&(y - guess).norm())).unwrap_or(guess)
+        };
+        // sin g = −Re(e^{iωτ/2} p̄)/|p|
+        let s = |w: f64, p: Complex64| -(Complex64::from_polar(1.0, w * tau / 2.0) * p.conj()).re / p.norm();
+        let w = illinois(wa, s(wa, pa), wb, s(wb, pb), |w| s(w, pick(w)))?;
+        let c = Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau);
+        let p = pick(w);
+        let depth = 1.0 / (c * p).re;
+        (depth > 0.0 && depth.is_finite()).then_some((w, depth, p))
+    }
+}
