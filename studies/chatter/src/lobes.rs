@@ -35,20 +35,28 @@ pub struct LobesArgs {
     /// (the FMUs' variable names, SI units, enumeration items by name); repeatable, applied last.
     #[arg(long = "set", value_name = "plant|controller.NAME=VALUE")]
     pub set: Vec<String>,
-    /// Controllers to draw (`off` = open loop).
-    #[arg(long, value_delimiter = ',', default_value = "off,pid,fopid,adrc_fopid")]
-    pub controllers: Vec<String>,
+    /// Controllers to draw (`off` = open loop; default `off,pid,fopid,adrc_fopid`, with
+    /// `--machine` the open loop and the file's controller).
+    #[arg(long, value_delimiter = ',')]
+    pub controllers: Option<Vec<String>>,
     #[command(flatten)]
     pub gains: GainArgs,
-    /// Lowest speed [rpm].
-    #[arg(long, default_value_t = 1000.0)]
-    pub rpm_min: f64,
-    /// Highest speed [rpm].
-    #[arg(long, default_value_t = 3000.0)]
-    pub rpm_max: f64,
-    /// Number of speeds (2001 over 1000–3000 rpm = 1 rpm steps).
-    #[arg(long, default_value_t = 2001)]
-    pub points: usize,
+    /// Lowest speed [rpm] (default 1000; with `--machine` the file's speed range).
+    #[arg(long)]
+    pub rpm_min: Option<f64>,
+    /// Highest speed [rpm] (default 3000).
+    #[arg(long)]
+    pub rpm_max: Option<f64>,
+    /// Number of speeds (default 2001 over 1000–3000 rpm = 1 rpm steps; with `--machine` 200).
+    #[arg(long)]
+    pub points: Option<usize>,
+    /// Your own machine: a machine file (TOML; see the docs' "Your own machine"). Its lobes by
+    /// zero-order, multi-frequency and semi-discretisation side by side, closed-loop lobes with
+    /// the actuator's limit.
+    #[arg(long, conflicts_with_all = ["plant", "modes", "system", "set"])]
+    pub machine: Option<PathBuf>,
+    #[command(flatten)]
+    pub machine_options: crate::own_machine::MachineLobeOptions,
     /// Output directory (lobes.csv, lobes.png).
     #[arg(long, default_value = "lobes-out")]
     pub out: PathBuf,
@@ -100,8 +108,11 @@ impl LobesPlanArgs {
         let a = &self.lobes;
         check_range(a)?;
         let (plant, base) = machine(a)?;
-        let controllers = a
-            .controllers
+        ensure!(
+            a.machine.is_none(),
+            "chatter plan lobes takes the seed plant (--plant, --set, --system); run `chatter lobes --machine` locally"
+        );
+        let controllers = controller_names(a)
             .iter()
             .map(|n| Ok((n.clone(), controller_from(&base, structure_by_name(n)?, &a.gains)?)))
             .collect::<Result<Vec<_>>>()?;
@@ -109,9 +120,9 @@ impl LobesPlanArgs {
             title: title(a),
             plant,
             controllers,
-            rpm_min: a.rpm_min,
-            rpm_max: a.rpm_max,
-            points: a.points,
+            rpm_min: a.rpm_min.unwrap_or(RPM_MIN),
+            rpm_max: a.rpm_max.unwrap_or(RPM_MAX),
+            points: a.points.unwrap_or(POINTS),
             chunk: self.chunk,
         })
     }
@@ -121,23 +132,54 @@ fn title(a: &LobesArgs) -> String {
     format!("Stability lobes, {} plant", a.system.as_ref().map_or(a.plant.clone(), |p| p.display().to_string()))
 }
 
+/// The seed plant's default speed range and grid.
+const RPM_MIN: f64 = 1000.0;
+const RPM_MAX: f64 = 3000.0;
+const POINTS: usize = 2001;
+
+/// The controllers of `--controllers` (default: all four).
+fn controller_names(a: &LobesArgs) -> Vec<String> {
+    a.controllers.clone().unwrap_or_else(|| ["off", "pid", "fopid", "adrc_fopid"].map(String::from).to_vec())
+}
+
 fn check_range(a: &LobesArgs) -> Result<()> {
+    let (lo, hi, n) = (a.rpm_min.unwrap_or(RPM_MIN), a.rpm_max.unwrap_or(RPM_MAX), a.points.unwrap_or(POINTS));
     ensure!(
-        a.rpm_min.is_finite() && a.rpm_min > 0.0 && a.rpm_max.is_finite() && a.rpm_max > a.rpm_min,
-        "the speed range [{}, {}] rpm is empty or not positive (need 0 < --rpm-min < --rpm-max)",
-        a.rpm_min,
-        a.rpm_max
+        lo.is_finite() && lo > 0.0 && hi.is_finite() && hi > lo,
+        "the speed range [{lo}, {hi}] rpm is empty or not positive (need 0 < --rpm-min < --rpm-max)"
     );
-    ensure!(a.points >= 2, "--points {}: need at least 2 speeds", a.points);
+    ensure!(n >= 2, "--points {n}: need at least 2 speeds");
     Ok(())
 }
 
 pub fn lobes(a: &LobesArgs) -> Result<()> {
+    if let Some(file) = &a.machine {
+        let m = crate::own_machine::load(file)?;
+        let controllers = a.controllers.clone().unwrap_or_else(|| {
+            let mut c = vec!["off".to_string()];
+            c.extend(m.controller.as_ref().map(|c| c.structure.clone()).filter(|s| s != "off"));
+            c
+        });
+        let range = match (a.rpm_min, a.rpm_max) {
+            (None, None) => None,
+            (lo, hi) => {
+                Some((lo.unwrap_or(m.operation.speed_range_rpm.0), hi.unwrap_or(m.operation.speed_range_rpm.1)))
+            }
+        };
+        return crate::own_machine::lobes(
+            file,
+            &controllers,
+            range,
+            a.points.unwrap_or(200),
+            &a.machine_options,
+            &a.out,
+        );
+    }
     check_range(a)?;
     let (plant, base) = machine(a)?;
-    let rpm = speed_grid(a.rpm_min, a.rpm_max, a.points);
+    let rpm = speed_grid(a.rpm_min.unwrap_or(RPM_MIN), a.rpm_max.unwrap_or(RPM_MAX), a.points.unwrap_or(POINTS));
     let mut series = Vec::new();
-    for name in &a.controllers {
+    for name in &controller_names(a) {
         let c = controller_from(&base, structure_by_name(name)?, &a.gains)?;
         let t = Instant::now();
         let (d, ex) = diagram(&plant, &c, &rpm)?;

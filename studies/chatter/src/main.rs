@@ -10,6 +10,7 @@
 //! | seed 002 (AMB spindle) | `chatter spindle`, `chatter synth` |
 //! | seed 003 (DSMC, type-2 fuzzy) | `chatter dsmc` |
 //! | seed 004 (FROH force control) | `chatter froh` |
+//! | your own machine (a machine file) | `chatter machine`, `chatter lobes --machine`, `chatter tune --machine` |
 //! | studies as cases, on many machines | `chatter plan`, `chatter run`, `chatter collect` |
 //!
 //! Gains are force-equivalent SI values (`u` in N, `y` in m); `--adrc` takes the FOPID gains of
@@ -25,6 +26,7 @@ mod dsmc;
 mod froh;
 mod lobes;
 mod main_job;
+mod own_machine;
 mod sd_lobes;
 mod spindle;
 mod synth;
@@ -85,6 +87,9 @@ enum Cmd {
     Check(check::CheckArgs),
     /// The lobes against the FMUs in the Rust master: time-domain boundary by bisection vs the lobe.
     Validate(validate::ValidateArgs),
+    /// Your own machine from a machine file: check it, write its SSP (lobes: `chatter lobes --machine`, tuning: `chatter tune --machine`).
+    #[command(subcommand)]
+    Machine(own_machine::MachineCmd),
     /// Plan a study as independent cases into a folder (manifest.json), to run anywhere.
     #[command(subcommand)]
     Plan(cases::PlanCmd),
@@ -122,6 +127,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),
         Cmd::Validate(a) => validate::validate(a),
+        Cmd::Machine(c) => own_machine::machine(c),
         Cmd::Plan(c) => cases::plan(c),
         Cmd::Run(a) => cases::run(a),
         Cmd::Collect(a) => cases::collect(a),

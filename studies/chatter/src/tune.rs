@@ -31,13 +31,14 @@ pub struct TuneArgs {
     /// Duration of the saturation check [s].
     #[arg(long, default_value_t = 0.2)]
     pub check_duration: f64,
-    /// Saturation-check margin: exceeding means |u_c| > (1 − margin)·u_max (0: the seed's check).
-    #[arg(long, default_value_t = 0.0)]
-    pub margin: f64,
-    /// Robust saturation constraint: the check must pass for noise seeds 1..=N (0: the seed's
-    /// single check with noise seed 7).
-    #[arg(long, default_value_t = 0)]
-    pub check_seeds: u64,
+    /// Saturation-check margin: exceeding means |u_c| > (1 − margin)·u_max (default 0, the
+    /// seed's check; with `--machine` 0.1).
+    #[arg(long)]
+    pub margin: Option<f64>,
+    /// Robust saturation constraint: the check must pass for noise seeds 1..=N (default 0: the
+    /// seed's single check with noise seed 7; with `--machine` 5).
+    #[arg(long)]
+    pub check_seeds: Option<u64>,
     /// Workpiece modes of the tuning plant (1 or 3: lobes and check on the 3-mode plant).
     #[arg(long, default_value_t = 1)]
     pub modes: u32,
@@ -50,6 +51,13 @@ pub struct TuneArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Your own machine: tune each structure on a machine file's closed loop and actuator limit
+    /// and write `tuned_<structure>.ssv` parameter sets for ChatterController.
+    #[arg(long, conflicts_with_all = ["plant", "modes"])]
+    pub machine: Option<PathBuf>,
+    /// With `--machine`: speeds of the cost's minimum over the file's speed range.
+    #[arg(long, default_value_t = 41)]
+    pub speeds: usize,
 }
 
 impl TuneArgs {
@@ -65,8 +73,8 @@ impl TuneArgs {
             particles: self.particles,
             iterations: self.iterations,
             check_duration: self.check_duration,
-            margin: self.margin,
-            check_seeds: self.check_seeds,
+            margin: self.margin.unwrap_or(0.0),
+            check_seeds: self.check_seeds.unwrap_or(0),
             adrc_observer: self.adrc_observer,
         };
         spec.validate()?;
@@ -75,6 +83,23 @@ impl TuneArgs {
 }
 
 pub fn tune(a: &TuneArgs) -> Result<()> {
+    if let Some(file) = &a.machine {
+        let o = machine::tune::TuneOptions {
+            structures: a.structures.iter().map(|n| structure_by_name(n)).collect::<Result<_>>()?,
+            runs: a.runs,
+            seed: a.seed,
+            pso: study_kit::optim::pso::PsoConfig {
+                particles: a.particles,
+                iterations: a.iterations,
+                ..Default::default()
+            },
+            check_seeds: a.check_seeds.unwrap_or(5),
+            margin: a.margin.unwrap_or(0.1),
+            check_duration: a.check_duration,
+            speeds: a.speeds,
+        };
+        return crate::own_machine::tune(file, &o, &a.out, a.quiet);
+    }
     let spec = a.spec()?;
     std::fs::create_dir_all(&a.out)?;
     let mut csv = String::from(CSV_HEADER);

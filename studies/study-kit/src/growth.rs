@@ -39,6 +39,11 @@ impl GrowthWindows {
         self.k += 1;
     }
 
+    /// The largest value after the first fifth (the start-up transient left out).
+    pub fn after_startup(&self) -> f64 {
+        self.mid.max(self.late)
+    }
+
     /// Late peak / mid peak (infinite if the late peak is not finite).
     pub fn ratio(&self) -> f64 {
         if self.late.is_finite() { self.late / self.mid } else { f64::INFINITY }

@@ -1,0 +1,312 @@
+//! The lobes of a user's machine by three methods, side by side, with the places where they
+//! disagree and which to trust there.
+//!
+//! * **Zero-order** (Altintas–Budak, 2-D): the tooth-period average of the directional matrix
+//!   with the 2×2 receptance; exact per speed, fast; takes measured FRFs. Accurate when the
+//!   directional matrix is nearly constant (many teeth in the cut); it misses what the
+//!   time-periodic force adds at low immersion (added lobes, flip lobes).
+//! * **Multi-frequency** (Budak–Altintas): the directional matrix's harmonics couple the
+//!   receptance at `ω + kω_T`; recovers the low-immersion lobes.
+//! * **Semi-discretisation** (Insperger–Stépán, first order, m steps per period): the
+//!   time-periodic delay system itself, Hopf and flip; the reference the others are checked
+//!   against (it converges in m; `chatter lobes --machine … --sd-m` sets m).
+//!
+//! At every speed the report compares the approximate methods with the semi-discretisation: a
+//! method more than [`TOLERANCE`] above it claims a deeper stable cut than the linear
+//! time-periodic model allows (the unsafe side) and is flagged; below it, conservative.
+
+use crate::machine::Machine;
+use crate::models::ModelError;
+use delay_stability::frequency::{CriticalPoint, MultiFrequency, Receptance, ZeroOrder2d};
+use delay_stability::{Bifurcation, BisectionOptions, LobePoint};
+use std::fmt::Write as _;
+
+/// Relative disagreement that is reported (5 %).
+pub const TOLERANCE: f64 = 0.05;
+
+/// A lobe method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// 2-D zero-order.
+    ZeroOrder,
+    /// Multi-frequency.
+    MultiFrequency,
+    /// Semi-discretisation.
+    SemiDiscretisation,
+}
+
+impl Method {
+    /// The CSV/CLI name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::ZeroOrder => "zero-order",
+            Method::MultiFrequency => "multi-frequency",
+            Method::SemiDiscretisation => "semi-discretisation",
+        }
+    }
+
+    /// The frequency-domain method for a machine: zero-order, or multi-frequency at low
+    /// immersion (a_e/D ≤ 0.2) where the zero-order method misses the time-periodic force.
+    pub fn for_immersion(m: &Machine) -> Method {
+        if m.is_low_immersion() { Method::MultiFrequency } else { Method::ZeroOrder }
+    }
+}
+
+/// The frequency band of the chatter search \[Hz\]: 1 Hz (the actuator's suspension) to 3× the
+/// highest mode.
+pub fn band(m: &Machine) -> (f64, f64) {
+    (1.0, 3.0 * m.highest_mode_hz())
+}
+
+/// Frequency-domain lobes of `frf` (the machine's own or a closed loop's) by `method`.
+pub fn frequency_diagram<R: Receptance>(
+    m: &Machine,
+    method: Method,
+    frf: &R,
+    speeds: &[f64],
+) -> Result<Vec<CriticalPoint>, ModelError> {
+    let cutter = m.cutter()?;
+    let rpm_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    let err = |e: delay_stability::zero_order::LobeError| ModelError::Unsupported(e.to_string());
+    Ok(match method {
+        Method::ZeroOrder => {
+            ZeroOrder2d::new(|w: f64| frf.receptance(w), &cutter, band(m), rpm_min).map_err(err)?.diagram(speeds)
+        }
+        Method::MultiFrequency => {
+            MultiFrequency::new(|w: f64| frf.receptance(w), &cutter, band(m), rpm_min).map_err(err)?.diagram(speeds)
+        }
+        Method::SemiDiscretisation => {
+            return Err(ModelError::Unsupported("semi-discretisation is not a frequency-domain method".into()));
+        }
+    })
+}
+
+/// The smallest critical depth of `frf` over `speeds` by `method`, refined by golden-section
+/// search around the best speed.
+pub fn min_depth<R: Receptance>(
+    m: &Machine,
+    method: Method,
+    frf: &R,
+    speeds: &[f64],
+) -> Result<CriticalPoint, ModelError> {
+    let cutter = m.cutter()?;
+    let rpm_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
+    let err = |e: delay_stability::zero_order::LobeError| ModelError::Unsupported(e.to_string());
+    let none = || ModelError::Unsupported("empty speed set".into());
+    Ok(match method {
+        Method::ZeroOrder => {
+            let p = ZeroOrder2d::new(|w: f64| frf.receptance(w), &cutter, band(m), rpm_min).map_err(err)?;
+            p.extremes(&p.diagram(speeds)).ok_or_else(none)?.min
+        }
+        _ => {
+            let p = MultiFrequency::new(|w: f64| frf.receptance(w), &cutter, band(m), rpm_min).map_err(err)?;
+            p.extremes(&p.diagram(speeds)).ok_or_else(none)?.min
+        }
+    })
+}
+
+/// The machine's open-loop lobes by every method.
+#[derive(Clone, Debug)]
+pub struct MachineLobes {
+    /// Speeds \[rpm\].
+    pub speeds: Vec<f64>,
+    /// Zero-order boundary per speed.
+    pub zero_order: Vec<CriticalPoint>,
+    /// Multi-frequency boundary per speed.
+    pub multi_frequency: Vec<CriticalPoint>,
+    /// Semi-discretisation boundary per speed (with the kind of instability).
+    pub sd: Vec<LobePoint>,
+    /// The semi-discretisation's m.
+    pub sd_m: usize,
+}
+
+/// One speed where a method disagrees with the semi-discretisation by more than [`TOLERANCE`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Disagreement {
+    /// Index of the speed in the grid.
+    pub index: usize,
+    /// Speed \[rpm\].
+    pub rpm: f64,
+    /// The method.
+    pub method: Method,
+    /// Its depth / the semi-discretisation's.
+    pub ratio: f64,
+    /// The semi-discretisation's kind of instability there.
+    pub kind: Option<Bifurcation>,
+}
+
+impl MachineLobes {
+    /// Compute the open-loop lobes at `speeds` with semi-discretisation order `sd_m`;
+    /// `progress(done, total)` after each SD speed.
+    pub fn compute(
+        m: &Machine,
+        speeds: &[f64],
+        sd_m: usize,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<MachineLobes, ModelError> {
+        let frf = |w: f64| m.receptance(w);
+        let zero_order = frequency_diagram(m, Method::ZeroOrder, &frf, speeds)?;
+        let multi_frequency = frequency_diagram(m, Method::MultiFrequency, &frf, speeds)?;
+        let model = m.sd_model()?;
+        let lo = zero_order.iter().chain(&multi_frequency).map(|p| p.depth).fold(f64::INFINITY, f64::min);
+        let o =
+            BisectionOptions { m: sd_m, start: (lo * 0.05).clamp(1e-6, 1e-3), growth: 1.1, max: 0.1, rel_tol: 1e-4 };
+        let sd = delay_stability::lobes(speeds, |rpm, a| model.at(rpm, a), &o, progress)?;
+        Ok(MachineLobes { speeds: speeds.to_vec(), zero_order, multi_frequency, sd, sd_m })
+    }
+
+    /// The semi-discretisation depth at speed index `i` \[m\] (∞ if stable up to the scan's end).
+    pub fn sd_depth(&self, i: usize) -> f64 {
+        self.sd[i].critical.value.unwrap_or(f64::INFINITY)
+    }
+
+    /// Every speed and method that disagrees with the semi-discretisation by more than
+    /// [`TOLERANCE`].
+    pub fn disagreements(&self) -> Vec<Disagreement> {
+        let mut out = Vec::new();
+        for i in 0..self.speeds.len() {
+            let sd = self.sd_depth(i);
+            for (method, p) in
+                [(Method::ZeroOrder, &self.zero_order[i]), (Method::MultiFrequency, &self.multi_frequency[i])]
+            {
+                let ratio = p.depth / sd;
+                if sd.is_finite() && (ratio - 1.0).abs() > TOLERANCE {
+                    out.push(Disagreement {
+                        index: i,
+                        rpm: self.speeds[i],
+                        method,
+                        ratio,
+                        kind: self.sd[i].critical.kind(),
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    /// Flip (period-doubling) lobes of the semi-discretisation: indices of the speeds where the
+    /// critical multiplier is −1.
+    pub fn flip_speeds(&self) -> Vec<usize> {
+        (0..self.sd.len()).filter(|&i| self.sd[i].critical.kind() == Some(Bifurcation::Flip)).collect()
+    }
+
+    /// The CSV: one row per speed, the three depths \[mm\], the SD's kind, chatter frequencies.
+    pub fn csv(&self) -> String {
+        let mut s =
+            String::from("rpm,zero_order_mm,multi_frequency_mm,sd_mm,sd_kind,zero_order_hz,multi_frequency_hz\n");
+        for i in 0..self.speeds.len() {
+            let mm = |d: f64| if d.is_finite() { format!("{:.6}", d * 1e3) } else { "inf".into() };
+            let kind = self.sd[i].critical.kind().map_or("none", |k| k.name());
+            let _ = writeln!(
+                s,
+                "{:.3},{},{},{},{kind},{:.3},{:.3}",
+                self.speeds[i],
+                mm(self.zero_order[i].depth),
+                mm(self.multi_frequency[i].depth),
+                mm(self.sd_depth(i)),
+                self.zero_order[i].chatter_hz,
+                self.multi_frequency[i].chatter_hz
+            );
+        }
+        s
+    }
+
+    /// The report: the minimum of each method, and where the methods disagree (speed ranges,
+    /// by method and side), with which to trust.
+    pub fn report(&self, m: &Machine) -> String {
+        let mut s = String::new();
+        let min = |d: &dyn Fn(usize) -> f64| {
+            (0..self.speeds.len())
+                .map(|i| (d(i), self.speeds[i]))
+                .fold((f64::INFINITY, f64::NAN), |a, b| if b.0 < a.0 { b } else { a })
+        };
+        let (zo, zr) = min(&|i| self.zero_order[i].depth);
+        let (mf, mr) = min(&|i| self.multi_frequency[i].depth);
+        let (sd, sr) = min(&|i| self.sd_depth(i));
+        let _ = writeln!(s, "| method | smallest critical depth (mm) | at (rpm) |\n|---|---|---|");
+        let _ = writeln!(s, "| zero-order (2-D) | {:.3} | {zr:.0} |", zo * 1e3);
+        let _ = writeln!(s, "| multi-frequency | {:.3} | {mr:.0} |", mf * 1e3);
+        let _ = writeln!(s, "| semi-discretisation (m = {}) | {:.3} | {sr:.0} |", self.sd_m, sd * 1e3);
+        let d = self.disagreements();
+        if d.is_empty() {
+            let _ = writeln!(s, "\nAll three methods agree within {:.0} % at every speed.", TOLERANCE * 100.0);
+        }
+        for method in [Method::ZeroOrder, Method::MultiFrequency] {
+            for unsafe_side in [true, false] {
+                let runs =
+                    ranges(d.iter().filter(|x| x.method == method && (x.ratio > 1.0) == unsafe_side), &self.speeds);
+                if runs.is_empty() {
+                    continue;
+                }
+                let flips = d
+                    .iter()
+                    .any(|x| x.method == method && (x.ratio > 1.0) == unsafe_side && x.kind == Some(Bifurcation::Flip));
+                let _ = writeln!(
+                    s,
+                    "\n{}: {} than semi-discretisation by more than {:.0} % at {}{}. {}",
+                    method.name(),
+                    if unsafe_side { "ABOVE (unsafe: claims a deeper stable cut)" } else { "below (conservative)" },
+                    TOLERANCE * 100.0,
+                    runs.join(", "),
+                    if flips { " (flip lobes there)" } else { "" },
+                    if unsafe_side {
+                        "Trust the semi-discretisation there: it keeps the time-periodic cutting force that the averaged (zero-order) or truncated (multi-frequency) forms approximate."
+                    } else {
+                        "The semi-discretisation is the reference."
+                    }
+                );
+            }
+        }
+        let flips = self.flip_speeds();
+        if !flips.is_empty() {
+            let _ = writeln!(
+                s,
+                "\nFlip (period-doubling) lobes by semi-discretisation at {}.",
+                ranges_of(&flips, &self.speeds).join(", ")
+            );
+        }
+        for w in &m.warnings {
+            let _ = writeln!(s, "\nWarning: {w}");
+        }
+        s
+    }
+}
+
+/// Speed ranges ("3000–3400 rpm (ratio up to 1.31)") of consecutive grid speeds in `items`.
+fn ranges<'a>(items: impl Iterator<Item = &'a Disagreement>, grid: &[f64]) -> Vec<String> {
+    let items: Vec<&Disagreement> = items.collect();
+    runs(&items.iter().map(|d| d.index).collect::<Vec<_>>())
+        .into_iter()
+        .map(|(i, j)| {
+            let worst = items
+                .iter()
+                .filter(|d| (i..=j).contains(&d.index))
+                .map(|d| d.ratio)
+                .fold(1.0, |a: f64, r| if (r - 1.0).abs() > (a - 1.0).abs() { r } else { a });
+            format!("{} (ratio up to {worst:.2})", span(grid, i, j))
+        })
+        .collect()
+}
+
+/// Speed ranges of consecutive grid indices.
+fn ranges_of(indices: &[usize], grid: &[f64]) -> Vec<String> {
+    runs(indices).into_iter().map(|(i, j)| span(grid, i, j)).collect()
+}
+
+/// Runs `(first, last)` of consecutive indices (sorted input).
+fn runs(indices: &[usize]) -> Vec<(usize, usize)> {
+    let mut out: Vec<(usize, usize)> = Vec::new();
+    for &k in indices {
+        match out.last_mut() {
+            Some((_, last)) if *last + 1 == k => *last = k,
+            Some((_, last)) if *last == k => {}
+            _ => out.push((k, k)),
+        }
+    }
+    out
+}
+
+/// `"3000–3400 rpm"`, or `"3000 rpm"` for one speed.
+fn span(grid: &[f64], i: usize, j: usize) -> String {
+    if i == j { format!("{:.0} rpm", grid[i]) } else { format!("{:.0}–{:.0} rpm", grid[i], grid[j]) }
+}
