@@ -95,7 +95,7 @@ pub static TABLE: LazyLock<Table<PlantParams, PlantInputs, PlantOutputs>> = Lazy
                 120 "cutting.tool_radius"            [cutting.tool_radius]          "m"    [1e-6, 1.0]    "tool radius R";
                 121 "cutting.radial_engagement"      [cutting.radial_engagement]    "m"    [1e-6, 2.0]    "radial depth a_e";
                 122 "cutting.axial_depth"            [cutting.axial_depth]          "m"    [0.0, 1.0]     "axial depth of cut a_p";
-                123 "cutting.kt"                     [cutting.kt]                   "N/m2" [0.0, 1e11]    "tangential cutting coefficient K_t";
+                123 "cutting.kt"                     [cutting.kt]                   "N/m2" [1e6, 1e11]    "tangential cutting coefficient K_t";
                 124 "cutting.kr"                     [cutting.kr]                   "N/m2" [0.0, 1e11]    "radial cutting coefficient K_r";
                 125 "cutting.direction_angle"        [cutting.direction_angle]      "rad"  [-7.0, 7.0]    "beam bending direction from the feed axis towards +y";
                 130 "actuator.a11"                   [actuator.a[0][0]]             ""     []             "actuator A[1,1] (1/s)";

@@ -48,9 +48,38 @@ pub fn known_unit(name: &str) -> Option<([i32; 8], f64)> {
     UNITS.iter().find(|(n, _, _)| *n == name).map(|(_, e, f)| (*e, *f))
 }
 
+/// Values in SI that users often write in another unit: per SI unit, (factor to SI, the unit).
+const SLIPS: &[(&str, &[(f64, &str)])] = &[
+    ("m", &[(1e-3, "mm"), (1e-6, "µm")]),
+    ("N/m2", &[(1e6, "N/mm²")]),
+    ("Pa", &[(1e6, "N/mm²"), (1e6, "MPa")]),
+    ("N/m", &[(1e3, "N/mm"), (1e6, "N/µm")]),
+    ("kg", &[(1e-3, "g")]),
+    ("s", &[(1e-3, "ms"), (1e-6, "µs")]),
+    ("rad", &[(PI / 180.0, "deg")]),
+    ("rad/s", &[(2.0 * PI, "Hz")]),
+];
+
+/// A hint for a value outside `[lo, hi]` of a variable in `unit`: if the number, read in a unit
+/// people often mean instead (mm for m, N/mm² for N/m², deg for rad, …), lies inside, say so:
+/// `values are SI (m): did you mean 3 mm = 0.003 m?`.
+pub fn slip_hint(unit: &str, x: f64, lo: f64, hi: f64) -> Option<String> {
+    let (_, slips) = SLIPS.iter().find(|(u, _)| *u == unit)?;
+    let (factor, name) = slips.iter().find(|(f, _)| (lo..=hi).contains(&(x * f)))?;
+    Some(format!("values are SI ({unit}): did you mean {x} {name} = {} {unit}?", x * factor))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn slips_of_a_unit_are_named() {
+        assert_eq!(slip_hint("m", 3.0, 0.0, 1.0).unwrap(), "values are SI (m): did you mean 3 mm = 0.003 m?");
+        assert!(slip_hint("N/m2", 800.0, 1e6, 1e11).unwrap().contains("800 N/mm² = 800000000 N/m2"));
+        assert_eq!(slip_hint("m", 3e9, 0.0, 1.0), None);
+        assert_eq!(slip_hint("V", 3.0, 0.0, 1.0), None);
+    }
 
     #[test]
     fn names_are_unique_and_rpm_is_scaled() {

@@ -586,8 +586,12 @@ impl<M: Fmi2Model> Instance<M> {
         if let Some(x) = num {
             let (lo, hi) = v.range();
             if lo.is_some_and(|lo| x < lo) || hi.is_some_and(|hi| x > hi) {
+                let hint = v
+                    .unit()
+                    .and_then(|u| model_description::units::slip_hint(u, x, lo.unwrap_or(f64::MIN), hi.unwrap_or(f64::MAX)))
+                    .map_or(String::new(), |h| format!("; {h}"));
                 return Err(CallError::error(format!(
-                    "{call}: value {x} for \"{}\" is outside [{}, {}]",
+                    "{call}: value {x} for \"{}\" is outside [{}, {}]{hint}",
                     v.name,
                     lo.map_or("-inf".into(), |l| l.to_string()),
                     hi.map_or("inf".into(), |h| h.to_string()),

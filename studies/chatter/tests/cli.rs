@@ -242,6 +242,8 @@ fn lobes_refuse_bad_input_with_one_line() {
     for (args, expect) in [
         (vec!["--set", "plant.workpiece.mas=3"], "did you mean workpiece.mass"),
         (vec!["--set", "plant.workpiece.damping_ratio=2"], "outside its bounds [0, 0.99]"),
+        (vec!["--set", "plant.cutting.kt=800"], "did you mean 800 N/mm² = 800000000 N/m2?"),
+        (vec!["--set", "plant.cutting.axial_depth=3"], "did you mean 3 mm = 0.003 m?"),
         (vec!["--set", "controller.structure=lqr"], "'lqr' is not an item of enumeration 'structure'"),
         (vec!["--set", "table.kt=1"], "`plant` or `controller`"),
         (vec!["--rpm-min", "3000", "--rpm-max", "1000"], "speed range [3000, 1000] rpm is empty"),
