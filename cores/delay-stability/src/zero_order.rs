@@ -38,8 +38,9 @@
 //!   Used for plotting the individual lobes and as a cross-check.
 //! * [`LobeProblem::critical_depth`] — **the method used for every envelope, b_min and b_max**:
 //!   at a given speed the phase function `g(ω)` is evaluated on the frequency grid, every
-//!   crossing of a multiple of π with `Re f < 0` is bracketed, the candidates whose
-//!   interpolated depth is within 5 % of the smallest are refined by a bracketing root finder
+//!   crossing of a multiple of π with `Re f < 0` is bracketed, the candidates are refined in
+//!   the order of their interpolated depth, as long as it is within 5 % of the smallest exact
+//!   depth found, by a bracketing root finder
 //!   (Illinois regula falsi) on `sin g(ω)` evaluated with the **exact** FRF closure
 //!   (relative tolerance 1e-12 in ω), and the smallest depth wins. The envelope is thus exact
 //!   at every speed (no resampling or interpolation of lobe curves), and

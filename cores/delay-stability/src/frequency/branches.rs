@@ -168,7 +168,12 @@ impl Branches {
             phase_crossings((&self.omega, &self.phase[b]), |i| pb[i].norm(), tau, (-1.0, 2.0), valid, b, &mut cands);
         }
         refine_best(&cands, |c| {
-            self.refine(c.tag, c.index, tau, &eig_at).filter(|r| accept(r.0, r.2)).map(|r| (r.0, r.1))
+            // a root the caller rejects at both ends of its bracket is not refined
+            let (b, i) = (c.tag, c.index);
+            if !accept(self.omega[i], self.p[b][i]) && !accept(self.omega[i + 1], self.p[b][i + 1]) {
+                return None;
+            }
+            self.refine(b, i, tau, &eig_at).filter(|r| accept(r.0, r.2)).map(|r| (r.0, r.1))
         })
     }
 
@@ -190,8 +195,12 @@ impl Branches {
         // sin g = −Re(e^{iωτ/2} p̄)/|p|
         let s = |w: f64, p: Complex64| -(Complex64::from_polar(1.0, w * tau / 2.0) * p.conj()).re / p.norm();
         let w = illinois(wa, s(wa, pa), wb, s(wb, pb), |w| s(w, pick(w)))?;
-        let c = Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau);
         let p = pick(w);
+        // a jump between eigenvalues inside the bracket is not a root
+        if s(w, p).abs() > 1e-6 {
+            return None;
+        }
+        let c = Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau);
         let depth = 1.0 / (c * p).re;
         (depth > 0.0 && depth.is_finite()).then_some((w, depth, p))
     }

@@ -50,13 +50,16 @@
 //!
 //! A frequency grid is built once from G ([`GridOptions`]: bisected until between neighbours the
 //! phase and `ln|·|` of every non-negligible entry of G and of both eigenvalues of `H̄ G` change by
-//! at most 0.02, and `Δω τ_max/2 ≤ 0.5`). The eigenvalues on the grid are followed as branches by
-//! nearest matching (with linear extrapolation); per speed every crossing of `g_j = kπ` with the
-//! right side is bracketed, the candidates within 5 % of the smallest estimated depth are refined
-//! by Illinois regula falsi on `sin g(ω)` with the **exact** G (the eigenvalue nearest the
-//! branch's interpolated value), and the smallest depth wins: the same bracket-and-refine scheme
-//! as the 1-D solver (shared code). No root in the band: the depth is `f64::INFINITY` and the
-//! chatter frequency NaN.
+//! at most 0.02 (zero-order) or 0.1 (multi-frequency), and `Δω τ_max/2 ≤ 0.5`). The eigenvalues
+//! on the grid (once for the zero-order matrix, per speed for the block matrix) are followed as
+//! branches by nearest matching (with linear extrapolation); per speed every crossing of
+//! `g_j = kπ` with the right side is bracketed, the candidates are refined in the order of their
+//! interpolated depth while it is within 5 % of the smallest exact depth found, by Illinois
+//! regula falsi on `sin g(ω)` with the **exact** G (the eigenvalue nearest the branch's
+//! interpolated value; a bracket whose end is a jump between eigenvalues, `|sin g| > 1e-6`, is no
+//! root), and the smallest depth wins: the same bracket-and-refine code as the 1-D solver. The
+//! grid only brackets; the depths do not change when it is refined (tested). No root in the
+//! band: the depth is `f64::INFINITY` and the chatter frequency NaN.
 //!
 //! An eigenvalue below `1e-9` of the other (e.g. the second eigenvalue of a structure flexible in
 //! one direction only, which is exactly zero) is not followed.

@@ -9,7 +9,7 @@
 //! its peak over the band. The default ([`MultiFrequency::new`]) takes per speed
 //!
 //! ```text
-//! h = max(⌈1.6/d⌉, ⌈2 f_top/f_T⌉),   at most 16,   and h = 0 if H(t) is constant,
+//! h = max(⌈2/d⌉, ⌈2 f_top/f_T⌉),   at most 16,   and h = 0 if H(t) is constant,
 //! ```
 //!
 //! (`f_T` the tooth-passing frequency), tuned so that one more harmonic changes the boundary by
@@ -38,7 +38,7 @@ pub struct MultiFrequency<R> {
     teeth: u32,
     /// `Some(h)`: fixed; `None`: the automatic rule (module docs).
     fixed: Option<usize>,
-    /// ⌈1.6/d⌉ (0 if H is constant).
+    /// ⌈2/d⌉ (0 if H is constant).
     h_duty: usize,
     /// The highest frequency where G is above 10 % of its peak \[Hz\].
     f_top: f64,
@@ -71,7 +71,7 @@ impl<R: Receptance> MultiFrequency<R> {
         Self::build(frf, cutter, opt, h)
     }
 
-    /// The default grid: [`GridOptions::new`] with phase and log-magnitude steps of 0.05, coarser
+    /// The default grid: [`GridOptions::new`] with phase and log-magnitude steps of 0.1, coarser
     /// than the zero-order solver's (every grid point costs an eigenvalue problem of size
     /// 2(2h + 1) per speed, and the grid only brackets the roots, which are then solved exactly).
     fn options(cutter: &Cutter, band_hz: (f64, f64), rpm_min: f64) -> Result<GridOptions, LobeError> {
@@ -79,8 +79,8 @@ impl<R: Receptance> MultiFrequency<R> {
             return Err(LobeError::Invalid(format!("the slowest speed must be > 0 (got {rpm_min} rpm)")));
         }
         let mut opt = GridOptions::new(band_hz.0, band_hz.1, cutter.teeth, rpm_min);
-        opt.max_phase_step = 0.05;
-        opt.max_log_mag_step = 0.05;
+        opt.max_phase_step = 0.1;
+        opt.max_log_mag_step = 0.1;
         Ok(opt)
     }
 
@@ -97,7 +97,7 @@ impl<R: Receptance> MultiFrequency<R> {
         let harm = directional_harmonics(cutter, 2 * fixed.unwrap_or(AUTO_MAX));
         let constant = harm[1..].iter().all(|m| m.norm() <= 1e-9 * harm[0].norm());
         let duty = ((cutter.exit - cutter.entry) / cutter.pitch()).min(1.0);
-        let h_duty = if constant { 0 } else { (1.6 / duty).ceil() as usize };
+        let h_duty = if constant { 0 } else { (2.0 / duty - 1e-9).ceil() as usize };
         Ok(MultiFrequency { frf, teeth: cutter.teeth, fixed, h_duty, f_top, harm, omega: s.omega })
     }
 

@@ -52,9 +52,8 @@ fn the_modal_receptance_is_the_structure_of_the_milling_model() {
     for hz in [100.0, 610.0, 1099.0, 2500.0] {
         let w = 2.0 * PI * hz;
         let n = s.dim();
-        let q = nalgebra::DMatrix::from_fn(n, n, |i, j| {
-            Complex64::new(if i == j { 0.0 } else { 0.0 }, if i == j { w } else { 0.0 }) - s.a[(i, j)]
-        });
+        let q =
+            nalgebra::DMatrix::from_fn(n, n, |i, j| Complex64::new(0.0, if i == j { w } else { 0.0 }) - s.a[(i, j)]);
         let x = q.lu().solve(&s.bt.map(Complex64::from)).unwrap();
         let ss = s.ct.map(Complex64::from) * x;
         let gm = g.receptance(w);
