@@ -97,6 +97,34 @@ fn one_direction_equals_the_one_dimensional_solver() {
     }
 }
 
+/// The 3-mode machine turned by 30° plus a cross-coupled mode at 800 Hz along 120°: G has
+/// off-diagonal terms (a transposed H̄ would change the eigenvalues of H̄ G).
+pub(crate) fn coupled() -> Vec<ModeShape> {
+    let t = 30f64.to_radians();
+    let (c, s) = (t.cos(), t.sin());
+    vec![
+        ModalReceptance::mode(600.0, 2e7, 0.03, [c, s]),
+        ModalReceptance::mode(1100.0, 5e7, 0.02, [c, s]),
+        ModalReceptance::mode(650.0, 2.5e7, 0.035, [-s, c]),
+        ModalReceptance::mode(800.0, 3e7, 0.025, [120f64.to_radians().cos(), 120f64.to_radians().sin()]),
+    ]
+}
+
+#[test]
+fn with_cross_coupled_modes_zero_order_equals_the_exact_boundary() {
+    for frac in [1.0, 0.3] {
+        let (e, x) = Cutter::immersion(frac, Milling::Up);
+        let cutter = Cutter::new(3, e, x, 8e8, 2.4e8, ForceLaw::Linear).unwrap();
+        let zo = ZeroOrder2d::new(ModalReceptance::new(&coupled()).unwrap(), &cutter, (10.0, 4000.0), 4000.0).unwrap();
+        let ti = MillingModel::new(&Structure::from_modes(&coupled()).unwrap(), cutter, None).unwrap().time_invariant();
+        for rpm in speed_grid(4000.0, 30000.0, 27) {
+            let ours = zo.critical_depth(rpm);
+            let ex = ti.critical_depth(rpm, 40_000).unwrap().unwrap();
+            assert_relative_eq!(ours.depth, ex.depth, max_relative = 1e-4);
+        }
+    }
+}
+
 #[test]
 fn zero_order_equals_the_exact_boundary_of_the_averaged_system() {
     let modes = machine();
