@@ -205,3 +205,27 @@ impl Branches {
         (depth > 0.0 && depth.is_finite()).then_some((w, depth, p))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_jump_between_eigenvalues_is_not_a_root() {
+        // branch 0 turns from arg −π/2 − 0.3 to −π/2 + 0.3 across the grid interval: a bracketed
+        // crossing of g = 0 with the positive-depth side; but the exact eigenvalues are the two
+        // end values, constant, so the branch only jumps from one to the other at ω = 1.5
+        let (pa, pb) = (Complex64::from_polar(1.0, -PI / 2.0 - 0.3), Complex64::from_polar(1.0, -PI / 2.0 + 0.3));
+        let q = Complex64::new(-5.0, 0.0);
+        let b = Branches::track(vec![1.0, 2.0], vec![vec![pa, q], vec![pb, q]]);
+        let tau = 1e-3;
+        assert!(b.critical(tau, |_| vec![pa, pb, q], |_, _| true).is_none());
+        // a smooth turn of the same eigenvalue is a root, at arg p = −π/2 + ωτ/2
+        let smooth = |w: f64| vec![Complex64::from_polar(1.0, -PI / 2.0 + 0.6 * (w - 1.5)), q];
+        let (w, depth) = b.critical(tau, smooth, |_, _| true).unwrap();
+        let p = smooth(w)[0];
+        assert!((p.arg() - (-PI / 2.0 + w * tau / 2.0)).abs() < 1e-9, "{w}: {p}");
+        let c = Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau);
+        assert!(((c * p).re * depth - 1.0).abs() < 1e-9);
+    }
+}
