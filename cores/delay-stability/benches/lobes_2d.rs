@@ -9,7 +9,7 @@
 //!
 //! `cargo bench -p delay-stability --bench lobes_2d`
 
-use delay_stability::frequency::{ModalReceptance, MultiFrequency, ZeroOrder2d};
+use delay_stability::frequency::{Lobes, ModalReceptance, MultiFrequency, ZeroOrder2d};
 use delay_stability::milling::{Cutter, ForceLaw, Milling, MillingModel, ModeShape, Structure};
 use delay_stability::zero_order::speed_grid;
 use delay_stability::{BisectionOptions, critical_value};

@@ -19,7 +19,7 @@
 //! Prints `rpm,depth_m,chatter_hz` (depth `inf` where no root), then `# b_min` and `# b_max`
 //! lines (refined by golden-section search).
 
-use delay_stability::frequency::{ModalReceptance, MultiFrequency, Receptance, ZeroOrder2d};
+use delay_stability::frequency::{Lobes, ModalReceptance, MultiFrequency, Receptance, ZeroOrder2d};
 use delay_stability::milling::{Cutter, ForceLaw, Milling, ModeShape};
 use delay_stability::zero_order::{CriticalPoint, speed_grid};
 use nalgebra::Matrix2;

@@ -6,7 +6,7 @@
 //! "Your own machine" issue (x: 600 Hz 2e7 N/m ζ 0.03, 1100 Hz 5e7 N/m ζ 0.02; y: 650 Hz
 //! 2.5e7 N/m ζ 0.035; z = 3, K_t = 8e8, K_r = 0.3 K_t).
 
-use delay_stability::frequency::{ModalReceptance, MultiFrequency, Receptance, ZeroOrder2d};
+use delay_stability::frequency::{Lobes, ModalReceptance, MultiFrequency, Receptance, ZeroOrder2d};
 use delay_stability::milling::{Cutter, ForceLaw, Milling, MillingModel, ModeShape, Structure};
 use delay_stability::zero_order::{GridOptions, speed_grid};
 use delay_stability::{BisectionOptions, critical_value};

@@ -1,7 +1,7 @@
 //! The frequency grid of a receptance and the eigenvalue branches on it (parent module docs).
 
 use super::{Receptance, eig2};
-use crate::bracket::{Crossing, bisect_grid, illinois, phase_crossings, refine_best, unwrap_phase};
+use crate::bracket::{Crossing, illinois, phase_crossings, refine_best, unwrap_phase};
 use crate::zero_order::{GridOptions, LobeError};
 use nalgebra::Matrix2;
 use num_complex::Complex64;
@@ -35,15 +35,12 @@ fn paired(l: [Complex64; 2], r: [Complex64; 2]) -> [Complex64; 2] {
 
 /// Sample G adaptively (parent module docs): every entry and both eigenvalues of `hbar·G` change
 /// by at most the phase and log-magnitude steps of `opt` between neighbours, and
-/// `Δω ≤ 1/τ_max`.
+/// `Δω ≤ 1/τ_max` ([`GridOptions::sample`]).
 pub(crate) fn sample<R: Receptance + ?Sized>(
     frf: &R,
     hbar: &Matrix2<Complex64>,
     opt: &GridOptions,
 ) -> Result<Sampled, LobeError> {
-    if !(opt.f_lo > 0.0 && opt.f_hi > opt.f_lo && opt.f_hi.is_finite()) {
-        return Err(LobeError::InvalidBand { f_lo: opt.f_lo, f_hi: opt.f_hi });
-    }
     let eval = |w: f64| -> Result<(Matrix2<Complex64>, [Complex64; 2]), LobeError> {
         let g = frf.receptance(w);
         if g.iter().all(|v| v.re.is_finite() && v.im.is_finite()) && g.iter().any(|v| v.norm() > 0.0) {
@@ -52,30 +49,18 @@ pub(crate) fn sample<R: Receptance + ?Sized>(
             Err(LobeError::NonFiniteFrf { freq_hz: w / (2.0 * PI) })
         }
     };
-    let max_dw = 1.0 / opt.tau_max.max(1e-300);
     let too_big =
         |s: Option<(f64, f64)>| s.is_some_and(|(dp, dm)| dp > opt.max_phase_step || dm > opt.max_log_mag_step);
-    let split =
-        |wl: f64, l: &(Matrix2<Complex64>, [Complex64; 2]), wr: f64, r: &(Matrix2<Complex64>, [Complex64; 2])| {
-            if wr - wl > max_dw {
-                return true;
-            }
-            let gs = l.0.iter().chain(r.0.iter()).map(|v| v.norm()).fold(0.0, f64::max);
-            if l.0.iter().zip(r.0.iter()).any(|(a, b)| too_big(steps(*a, *b, gs))) {
-                return true;
-            }
-            let rp = paired(l.1, r.1);
-            let ps = l.1[0].norm().max(rp[0].norm());
-            (0..2).any(|j| too_big(steps(l.1[j], rp[j], ps)))
-        };
-    let out = bisect_grid(
-        (2.0 * PI * opt.f_lo, 2.0 * PI * opt.f_hi),
-        opt.coarse_points,
-        opt.max_points,
-        eval,
-        split,
-        || LobeError::TooManyPoints { max_points: opt.max_points },
-    )?;
+    let split = |l: &(Matrix2<Complex64>, [Complex64; 2]), r: &(Matrix2<Complex64>, [Complex64; 2])| {
+        let gs = l.0.iter().chain(r.0.iter()).map(|v| v.norm()).fold(0.0, f64::max);
+        if l.0.iter().zip(r.0.iter()).any(|(a, b)| too_big(steps(*a, *b, gs))) {
+            return true;
+        }
+        let rp = paired(l.1, r.1);
+        let ps = l.1[0].norm().max(rp[0].norm());
+        (0..2).any(|j| too_big(steps(l.1[j], rp[j], ps)))
+    };
+    let out = opt.sample(eval, split)?;
     Ok(Sampled { omega: out.iter().map(|p| p.0).collect(), g: out.into_iter().map(|p| p.1.0).collect() })
 }
 

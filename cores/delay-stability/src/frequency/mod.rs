@@ -76,8 +76,36 @@ pub use zero_order_2d::ZeroOrder2d;
 pub use crate::zero_order::{CriticalPoint, Extremes, GridOptions, LobeError};
 
 use crate::milling::{Cutter, ModeShape};
+use crate::zero_order::{LobeProblem, extremes};
 use nalgebra::Matrix2;
 use num_complex::Complex64;
+use rayon::prelude::*;
+
+/// A lobe solver: the exact critical depth per speed, and from it a diagram (parallel over
+/// speeds) and b_min/b_max ([`crate::zero_order::extremes`]). Implemented by [`ZeroOrder2d`],
+/// [`MultiFrequency`] and the 1-D [`LobeProblem`], so that callers can hold any of them as
+/// `&dyn Lobes`.
+pub trait Lobes: Sync {
+    /// The critical depth \[m\] at `rpm` and its chatter frequency; `f64::INFINITY` (and NaN)
+    /// where no root in the band gives a positive depth.
+    fn critical_depth(&self, rpm: f64) -> CriticalPoint;
+
+    /// Critical depths on a speed grid (parallel over speeds).
+    fn diagram(&self, rpm: &[f64]) -> Vec<CriticalPoint> {
+        rpm.par_iter().map(|&n| self.critical_depth(n)).collect()
+    }
+
+    /// b_min and b_max of a computed diagram, refined by golden-section search on the exact depth.
+    fn extremes(&self, diagram: &[CriticalPoint]) -> Option<Extremes> {
+        extremes(diagram, |n| self.critical_depth(n))
+    }
+}
+
+impl<F: Fn(f64) -> Complex64 + Sync> Lobes for LobeProblem<F> {
+    fn critical_depth(&self, rpm: f64) -> CriticalPoint {
+        LobeProblem::critical_depth(self, rpm)
+    }
+}
 
 /// A 2 × 2 tool-point receptance `G(iω)` \[m/N\] (rows: displacement x, y; columns: force x, y).
 ///

@@ -18,14 +18,10 @@
 //! [`MultiFrequency::with_harmonics`] fixes h instead.
 
 use super::branches::{Branches, sample};
-use super::{
-    CriticalPoint, Extremes, GridOptions, LobeError, Receptance, complex, directional_harmonics, eig2, mean_of,
-};
+use super::{CriticalPoint, GridOptions, LobeError, Lobes, Receptance, complex, directional_harmonics, eig2, mean_of};
 use crate::milling::Cutter;
-use crate::zero_order::extremes;
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 use num_complex::Complex64;
-use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// The largest automatic h.
@@ -179,11 +175,13 @@ impl<R: Receptance> MultiFrequency<R> {
             g.iter().enumerate().map(|(k, gk)| (gk * Vector2::new(x[2 * k], x[2 * k + 1])).norm()).collect();
         v[h] >= 0.5 * v.iter().copied().fold(0.0, f64::max)
     }
+}
 
+impl<R: Receptance> Lobes for MultiFrequency<R> {
     /// The critical depth \[m\] at `rpm` and its chatter frequency: the base frequency ω of the
     /// root in the band whose central harmonic dominates (the vibration also contains
     /// ω + k ω_T); `f64::INFINITY` (and NaN) where no root gives a positive depth.
-    pub fn critical_depth(&self, rpm: f64) -> CriticalPoint {
+    fn critical_depth(&self, rpm: f64) -> CriticalPoint {
         let none = CriticalPoint { rpm, depth: f64::INFINITY, chatter_hz: f64::NAN };
         if !(rpm.is_finite() && rpm > 0.0) {
             return none;
@@ -197,15 +195,5 @@ impl<R: Receptance> MultiFrequency<R> {
             Some((w, depth)) => CriticalPoint { rpm, depth, chatter_hz: w / (2.0 * PI) },
             None => none,
         }
-    }
-
-    /// Critical depths on a speed grid (parallel over speeds).
-    pub fn diagram(&self, rpm: &[f64]) -> Vec<CriticalPoint> {
-        rpm.par_iter().map(|&n| self.critical_depth(n)).collect()
-    }
-
-    /// b_min and b_max of a computed diagram ([`crate::zero_order::extremes`]).
-    pub fn extremes(&self, diagram: &[CriticalPoint]) -> Option<Extremes> {
-        extremes(diagram, |n| self.critical_depth(n))
     }
 }
