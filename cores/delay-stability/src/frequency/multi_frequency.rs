@@ -1,21 +1,4 @@
-//! The multi-frequency solver (parent module docs).
-//!
-//! # Number of harmonics
-//!
-//! The truncation `|k| ≤ h` must (i) resolve the pulse of `H(t)`: a tooth cuts for the fraction
-//! `d = (φ_e − φ_s)/(2π/z)` of the tooth period, and `H_r` is significant up to `r ≈ 1/d`; and
-//! (ii) reach the sidebands `ω + k ω_T` that fall on the structure's response at `±ω`, i.e.
-//! `h ω_T ≳ 2 ω_top` with `ω_top` the highest frequency where some entry of G is above 10 % of
-//! its peak over the band. The default ([`MultiFrequency::new`]) takes per speed
-//!
-//! ```text
-//! h = max(⌈2/d⌉, ⌈2 f_top/f_T⌉),   at most 16,   and h = 0 if H(t) is constant,
-//! ```
-//!
-//! (`f_T` the tooth-passing frequency), tuned so that one more harmonic changes the boundary by
-//! less than 0.1 % on the low-immersion cases of the tests (a/D = 0.05 and 0.1, the 1-DOF
-//! Insperger–Stépán benchmark and the 3-mode machine; tested with h + 2 at several speeds).
-//! [`MultiFrequency::with_harmonics`] fixes h instead.
+//! The multi-frequency solver (parent module docs, also for the number of harmonics).
 
 use super::branches::{Branches, sample};
 use super::{CriticalPoint, GridOptions, LobeError, Lobes, Receptance, complex, directional_harmonics, eig2, mean_of};
