@@ -24,26 +24,34 @@ Our solver uses the same force convention written as H̄ = (N K_t/(4π))[α] and
 about 1e-5; the difference is the interpolation of this construction).
 
 Published examples (parameters as published; the lobes in these publications are figures, whose
-values I could not read through the search tools available here, so the "published" column holds
-only what the text states):
+values I could not read through the search tools available here, so beside our numbers stands
+only what the texts state):
 
-1. Insperger & Stépán's two-DOF benchmark (Int. J. Numer. Meth. Engng 61 (2004) 117-141;
-   Gradišek, Kalveram, Insperger, Weinert, Stépán, Govekar, Grabec, Int. J. Mach. Tools Manuf.
-   45 (2005) 769-781, which compares the zero-order method with semi-discretisation on it):
-   z = 2, K_t = 6e8 N/m², K_n = 2e8 N/m², symmetric tool f_n = 922 Hz, ζ = 0.011,
-   m = 0.03993 kg (k = m ω_n² = 1.340e6 N/m) in x and y. Slotting (a/D = 1) and a/D = 0.5
-   down-milling. Published statement: for slotting the zero-order and the time-domain lobes
-   coincide, for low immersion they do not (our multi-frequency tests in Rust show the same).
-2. The two-mode-per-axis tool of Altintas' *Manufacturing Automation* (FRF by residues,
-   ch. 2 and p. 162 of the 2nd ed., as used in the UBC Manufacturing Automation Laboratory
-   scripts, github.com/leekunhwee/Dynamics): x: 452.77 Hz, ζ 0.123718, R = 9.202966e-5 −
-   1.862195e-4 i; 1448.53 Hz, ζ 0.01651, R = −4.181562e-5 − 3.043618e-4 i; y: 516.17 Hz,
-   ζ 0.0243, R = −2.3929e-6 − 1.721539e-4 i; 1407.64 Hz, ζ 0.0324, R = 4.055052e-5 −
-   3.618808e-4 i (m/N); K_t = 1319.4 MPa, K_r = 788.8 MPa, two flutes, Ø 31.75 mm, half
-   immersion down-milling; plotted there for 0-16,000 rpm and 0-6 mm.
-3. The 3-mode machine of the "Your own machine" issue (x: 600 Hz 2e7 N/m ζ 0.03, 1100 Hz 5e7 N/m
-   ζ 0.02; y: 650 Hz 2.5e7 N/m ζ 0.035; 3 teeth, K_t = 8e8, K_r = 0.3 K_t, slotting): the
-   user's own check gave about 3.19 mm near 10,000 rpm and 2.22 mm near 16,000 rpm.
+1. Insperger & Stépán's two-DOF benchmark (Int. J. Numer. Meth. Engng 61 (2004) 117-141, used
+   again by Gradišek et al., Int. J. Mach. Tools Manuf. 45 (2005) 769-781, to compare the
+   zero-order method with semi-discretisation): z = 2, K_t = 6e8 N/m², K_n = 2e8 N/m²,
+   symmetric tool f_n = 922 Hz, ζ = 0.011, m = 0.03993 kg (k = m ω_n² = 1.340e6 N/m) in x and
+   y; here slotting (a/D = 1) and a/D = 0.5 down-milling. Published finding (Huang & Yuan,
+   Manufacturing Technology 15 (2015) 136-143, abstract): the zero-order and SD lobes are similar
+   at high radial immersion, disagree more as it decreases, and at very low immersion SD alone
+   shows the period-doubling lobes; the Rust tests (``tests/lobes_2d.rs``) show the same, and
+   that the multi-frequency solver recovers them.
+2. A two-mode-per-axis tool with FRFs in residue form, K_t = 1319.4 MPa, K_r = 788.8 MPa, two
+   flutes, Ø 31.75 mm, half immersion down-milling, from the UBC Manufacturing Automation
+   Laboratory scripts (github.com/leekunhwee/Dynamics, FRFs.m and LobeZOAAltintas.m, which cite
+   Altintas, *Manufacturing Automation*, 2nd ed., p. 156 for the zero-order solution and p. 162
+   for the residue form): x: 452.77 Hz, ζ 0.123718, R = 9.202966e-5 − 1.862195e-4 i;
+   1448.53 Hz, ζ 0.01651, R = −4.181562e-5 − 3.043618e-4 i; y: 516.17 Hz, ζ 0.0243,
+   R = −2.3929e-6 − 1.721539e-4 i; 1407.64 Hz, ζ 0.0324, R = 4.055052e-5 − 3.618808e-4 i (m/N);
+   plotted there for 0-16,000 rpm and 0-6 mm. A receptance that is not a modal sum of the
+   ModeShape kind (non-proportional residues), as a measured FRF would be.
+3. The 3-mode machine of the "Your own machine" issue (x: 600 Hz 2e7 N/m ζ 0.03, 1100 Hz
+   5e7 N/m ζ 0.02; y: 650 Hz 2.5e7 N/m ζ 0.035; 3 teeth, K_t = 8e8, K_r = 0.3 K_t, slotting):
+   the user's own check gave about 3.19 mm near 10,000 rpm and 2.22 mm near 16,000 rpm. Not
+   published: the same modes turned to 30° and 120° plus an 800 Hz, 3e7 N/m, ζ 0.025 mode at
+   120°, a/D = 0.3 up-milling, a receptance with cross terms Φ_xy (then det[I + ΛΦ₀] needs the
+   full Φ: a₀ = det[α] det[Φ], a₁ = tr([α][Φ])); with a diagonal Φ a transposed [α] would go
+   unnoticed, since the eigenvalues of a 2 × 2 matrix depend only on its trace and determinant.
 
 Readings of the examples (ambiguities): K_n of example 1 is the radial coefficient K_r of the
 Cutter (F_r = K_r a h); K_r of example 2 is given in MPa, so K_r/K_t = 788.8/1319.4; the
@@ -59,6 +67,7 @@ Numbers (ours = Rust, py = this file, b_min over the printed speed grid):
 | 1. 2-DOF, a/D = 0.5 down         | 0.12675 mm | 0.12675 mm | 17650  | 4.7e-6        |
 | 2. Altintas tool, a/D = 0.5 down | 1.01470 mm | 1.01470 mm | 2100   | 3.9e-6        |
 | 3. 3-mode machine, slotting      | 1.80788 mm | 1.80788 mm | 19800  | 8.8e-7        |
+| 3'. cross-coupled, a/D = 0.3 up  | 3.22897 mm | 3.22897 mm | 4700   | 4.7e-6        |
 
 (b_min on the printed speed grid; refined by golden section: 0.04793 mm at 7798.5 rpm, 0.12674 mm
 at 17669.7 rpm, 1.01470 mm at 2099.9 rpm, 1.80788 mm at 19789.4 rpm.) The 3-mode machine at the
@@ -104,17 +113,29 @@ def ours(case, rpm):
     return data[:, 0], data[:, 1], extra
 
 
+def direction(axis):
+    """Unit vector of "x", "y" or "aDEG" (DEG degrees from +x towards +y)."""
+    if axis == "x":
+        return np.array([1.0, 0.0])
+    if axis == "y":
+        return np.array([0.0, 1.0])
+    t = math.radians(float(axis[1:]))
+    return np.array([math.cos(t), math.sin(t)])
+
+
 def frf(case, w):
-    """Direct FRFs Φ_xx, Φ_yy (the examples have no cross terms)."""
-    phi = {"x": np.zeros_like(w, dtype=complex), "y": np.zeros_like(w, dtype=complex)}
+    """Φ_xx, Φ_xy (= Φ_yx), Φ_yy."""
+    phi = np.zeros((2, 2, len(w)), dtype=complex)
     for axis, hz, k, zeta in case.get("modes", []):
         wn = 2 * math.pi * hz
-        phi[axis] += wn ** 2 / k / (wn ** 2 - w ** 2 + 2j * zeta * wn * w)
+        d = direction(axis)
+        phi += np.outer(d, d)[:, :, None] * (wn ** 2 / k / (wn ** 2 - w ** 2 + 2j * zeta * wn * w))
     for axis, hz, zeta, r in case.get("residues", []):
         wn = 2 * math.pi * hz
         s = -zeta * wn + 1j * wn * math.sqrt(1 - zeta ** 2)
-        phi[axis] += r / (1j * w - s) + np.conj(r) / (1j * w - np.conj(s))
-    return phi["x"], phi["y"]
+        i = "xy".index(axis)
+        phi[i, i] += r / (1j * w - s) + np.conj(r) / (1j * w - np.conj(s))
+    return phi[0, 0], phi[0, 1], phi[1, 1]
 
 
 def alphas(phi_st, phi_ex, kr):
@@ -138,9 +159,10 @@ def textbook_envelope(case, speeds, df=0.02):
     axx, axy, ayx, ayy = alphas(phi_st, phi_ex, case["kr"] / kt)
     f = np.arange(case["band"][0], case["band"][1], df)
     w = 2 * math.pi * f
-    pxx, pyy = frf(case, w)
-    a0 = pxx * pyy * (axx * ayy - axy * ayx)
-    a1 = axx * pxx + ayy * pyy
+    pxx, pxy, pyy = frf(case, w)
+    # det[I + Λ [α][Φ]] = 1 + Λ tr([α][Φ]) + Λ² det[α] det[Φ] (Altintas' a₁, a₀ when Φ_xy = 0)
+    a0 = (pxx * pyy - pxy * pxy) * (axx * ayy - axy * ayx)
+    a1 = axx * pxx + axy * pxy + ayx * pxy + ayy * pyy
     disc = np.sqrt(a1 ** 2 - 4 * a0)
     roots = np.stack([(-a1 + disc) / (2 * a0), (-a1 - disc) / (2 * a0)])
     # follow the two roots along ω (nearest matching), so that each lobe is one curve
@@ -181,6 +203,8 @@ MODES_2DOF = [("x", 922.0, 0.03993 * (2 * math.pi * 922.0) ** 2, 0.011),
 ALTINTAS = [("x", 452.77, 0.123718, 9.202966e-5 - 1.862195e-4j), ("x", 1448.53, 0.01651, -4.181562e-5 - 3.043618e-4j),
             ("y", 516.17, 0.0243, -2.3929e-6 - 1.721539e-4j), ("y", 1407.64, 0.0324, 4.055052e-5 - 3.618808e-4j)]
 MACHINE = [("x", 600.0, 2e7, 0.03), ("x", 1100.0, 5e7, 0.02), ("y", 650.0, 2.5e7, 0.035)]
+COUPLED = [("a30", 600.0, 2e7, 0.03), ("a30", 1100.0, 5e7, 0.02), ("a120", 650.0, 2.5e7, 0.035),
+           ("a120", 800.0, 3e7, 0.025)]
 
 CASES = {
     "2dof-slotting": dict(teeth=2, kt=6e8, kr=2e8, immersion=1.0, milling="up", band=(50.0, 3000.0),
@@ -189,6 +213,8 @@ CASES = {
                            modes=MODES_2DOF, rpm=(5000.0, 25000.0, 401)),
     "altintas-half-down": dict(teeth=2, kt=1319.4e6, kr=788.8e6, immersion=0.5, milling="down",
                                band=(20.0, 4000.0), residues=ALTINTAS, rpm=(2000.0, 16000.0, 281)),
+    "coupled-a03-up": dict(teeth=3, kt=8e8, kr=2.4e8, immersion=0.3, milling="up", band=(10.0, 4000.0),
+                           modes=COUPLED, rpm=(4000.0, 30000.0, 261)),
     "machine-slotting": dict(teeth=3, kt=8e8, kr=2.4e8, immersion=1.0, milling="down", band=(10.0, 4000.0),
                              modes=MACHINE, rpm=(4000.0, 30000.0, 261)),
 }

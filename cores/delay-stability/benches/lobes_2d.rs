@@ -5,11 +5,12 @@
 //! * the 2-D zero-order lobes for 10,000 speeds (budget: < 1 s), slotting;
 //! * the semi-discretisation (m = 40, bisection to 1e-5) per speed on fewer speeds, and the
 //!   ratio of the per-speed times;
-//! * the multi-frequency solver per speed at slotting and at a/D = 0.05 (default h).
+//! * the multi-frequency solver per speed at slotting and at a/D = 0.05 (automatic h), and on
+//!   the 1-DOF Insperger–Stépán benchmark at a/D = 0.05.
 //!
 //! `cargo bench -p delay-stability --bench lobes_2d`
 
-use delay_stability::frequency::{ModalReceptance, MultiFrequency, ZeroOrder2d};
+use delay_stability::frequency::{Lobes, ModalReceptance, MultiFrequency, ZeroOrder2d};
 use delay_stability::milling::{Cutter, ForceLaw, Milling, MillingModel, ModeShape, Structure};
 use delay_stability::zero_order::speed_grid;
 use delay_stability::{BisectionOptions, critical_value};
@@ -88,5 +89,30 @@ fn main() {
                 each / sd_each
             );
         }
+
+        // the 1-DOF Insperger–Stépán benchmark at a/D = 0.05 (the flip lobes need h = 14)
+        let m = 0.03993f64;
+        let one = [ModeShape {
+            omega: 2.0 * std::f64::consts::PI * 922.0,
+            zeta: 0.011,
+            tool: [1.0 / m.sqrt(), 0.0],
+            actuator: [0.0, 0.0],
+        }];
+        let (e, x) = Cutter::immersion(0.05, Milling::Down);
+        let c = Cutter::new(2, e, x, 6e8, 2e8, ForceLaw::Linear).expect("cutter");
+        let mf = MultiFrequency::new(ModalReceptance::new(&one).expect("mode"), &c, (50.0, 5000.0), 12000.0)
+            .expect("multi-frequency");
+        let speeds = [14000.0, 16000.0, 19000.0];
+        let t = Instant::now();
+        for &rpm in &speeds {
+            mf.critical_depth(rpm);
+        }
+        let each = t.elapsed().as_secs_f64() / speeds.len() as f64;
+        let hs: Vec<usize> = speeds.iter().map(|&n| mf.harmonics_at(n)).collect();
+        println!(
+            "multi-frequency, 1-DOF benchmark a/D = 0.05: h = {hs:?} at {speeds:?} rpm, grid {} points: {:.0} ms per speed",
+            mf.grid_len(),
+            each * 1e3
+        );
     });
 }

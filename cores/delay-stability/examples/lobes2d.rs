@@ -7,8 +7,9 @@
 //!     --band 50:5000 --rpm 5000:25000:201 [--method zo|mf] [--harmonics h]
 //! ```
 //!
-//! * `--mode AXIS:HZ:K:ZETA`: a mode along x or y of natural frequency HZ, stiffness K \[N/m\]
-//!   and damping ratio ZETA (mass-normalised shape `ω_n/√K`);
+//! * `--mode AXIS:HZ:K:ZETA`: a mode along AXIS = `x`, `y` or `aDEG` (the direction DEG degrees
+//!   from +x towards +y: a cross-coupled mode) of natural frequency HZ, stiffness K \[N/m\] and
+//!   damping ratio ZETA (mass-normalised shape `ω_n/√K`);
 //! * `--residue AXIS:HZ:ZETA:RE:IM`: a mode of the direct FRF of AXIS given by its residue
 //!   `R = RE + i·IM` \[m/N\]: `G = R/(iω − s) + R̄/(iω − s̄)`, `s = −ζω_n + iω_n√(1 − ζ²)` (the
 //!   form of Altintas, *Manufacturing Automation*, ch. 2);
@@ -18,7 +19,7 @@
 //! Prints `rpm,depth_m,chatter_hz` (depth `inf` where no root), then `# b_min` and `# b_max`
 //! lines (refined by golden-section search).
 
-use delay_stability::frequency::{ModalReceptance, MultiFrequency, Receptance, ZeroOrder2d};
+use delay_stability::frequency::{Lobes, ModalReceptance, MultiFrequency, Receptance, ZeroOrder2d};
 use delay_stability::milling::{Cutter, ForceLaw, Milling, ModeShape};
 use delay_stability::zero_order::{CriticalPoint, speed_grid};
 use nalgebra::Matrix2;
@@ -66,6 +67,18 @@ fn axis(s: &str) -> Result<(usize, &str), String> {
     }
 }
 
+/// The unit direction of `x`, `y` or `aDEG`.
+fn direction(s: &str) -> Result<([f64; 2], &str), String> {
+    if let Some((a, rest)) = s.split_once(':')
+        && let Some(deg) = a.strip_prefix('a')
+    {
+        let t = deg.parse::<f64>().map_err(|e| format!("{s}: {e}"))?.to_radians();
+        return Ok(([t.cos(), t.sin()], rest));
+    }
+    let (ax, rest) = axis(s)?;
+    Ok((if ax == 0 { [1.0, 0.0] } else { [0.0, 1.0] }, rest))
+}
+
 fn run() -> Result<(), String> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let (mut teeth, mut kt, mut kr, mut imm, mut milling) = (2u32, 6e8, 2e8, 1.0, Milling::Down);
@@ -98,9 +111,8 @@ fn run() -> Result<(), String> {
             "--method" => method = if val == "mf" { "mf" } else { "zo" },
             "--harmonics" => harmonics = Some(val.parse::<usize>().map_err(|e| format!("--harmonics {val}: {e}"))?),
             "--mode" => {
-                let (ax, rest) = axis(val)?;
+                let (dir, rest) = direction(val)?;
                 let v = nums(rest, 3, "--mode")?;
-                let dir = if ax == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
                 modes.push(ModalReceptance::mode(v[0], v[1], v[2], dir));
             }
             "--residue" => {

@@ -115,8 +115,8 @@ pub(crate) fn phase_crossings(
 
 /// Refine the crossings in order of their estimate; `refine` returns the exact `(ω, depth)` of a
 /// crossing or `None` (no root, or one the caller rejects). Every crossing whose estimate is
-/// within 5 % of the first one refined successfully is refined, and the smallest exact depth
-/// wins.
+/// within 5 % of the smallest exact depth found so far is refined (and all of them until one
+/// succeeds), and the smallest exact depth wins.
 pub(crate) fn refine_best(
     cands: &[Crossing],
     mut refine: impl FnMut(&Crossing) -> Option<(f64, f64)>,
@@ -124,16 +124,14 @@ pub(crate) fn refine_best(
     let mut order: Vec<&Crossing> = cands.iter().collect();
     order.sort_by(|a, b| a.est.total_cmp(&b.est));
     let mut best: Option<(f64, f64)> = None;
-    let mut limit = f64::INFINITY;
     for c in order {
-        if c.est > limit {
+        if best.is_some_and(|b| c.est > 1.05 * b.1) {
             break;
         }
-        if let Some((w, depth)) = refine(c) {
-            limit = limit.min(1.05 * c.est);
-            if best.is_none_or(|b| depth < b.1) {
-                best = Some((w, depth));
-            }
+        if let Some((w, depth)) = refine(c)
+            && best.is_none_or(|b| depth < b.1)
+        {
+            best = Some((w, depth));
         }
     }
     best
@@ -193,12 +191,11 @@ mod tests {
 
     #[test]
     fn the_grid_is_refined_where_asked() {
-        let g =
-            bisect_grid((1.0, 100.0), 3, 1000, |w| Ok::<f64, ()>(w), |wl, _, wr, _| wl < 10.0 && wr - wl > 1.0, || ())
-                .unwrap();
+        let g = bisect_grid((1.0, 100.0), 3, 1000, Ok::<f64, ()>, |wl, _, wr, _| wl < 10.0 && wr - wl > 1.0, || ())
+            .unwrap();
         let w: Vec<f64> = g.iter().map(|p| p.0).collect();
         assert!(w.windows(2).all(|p| p[1] > p[0]));
         assert!(w.windows(2).filter(|p| p[0] < 10.0).all(|p| p[1] - p[0] <= 1.0));
-        assert!(bisect_grid((1.0, 100.0), 3, 5, |w| Ok::<f64, ()>(w), |_, _, _, _| true, || ()).is_err());
+        assert!(bisect_grid((1.0, 100.0), 3, 5, Ok::<f64, ()>, |_, _, _, _| true, || ()).is_err());
     }
 }

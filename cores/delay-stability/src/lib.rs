@@ -25,6 +25,8 @@
 //! * [`zero_order`]: the zero-order (Altintas–Budak) lobes of any receptance closure, exact
 //!   critical depth per speed, b_min/b_max — the frequency-domain method beside the
 //!   semi-discretisation.
+//! * [`frequency`]: the same for a 2 × 2 receptance (modal or measured) under a milling
+//!   [`milling::Cutter`]: the 2-D zero-order (Altintas–Budak) and the multi-frequency lobes.
 //!
 //! The crate is a core: plain types, `thiserror` errors, no FMI.
 

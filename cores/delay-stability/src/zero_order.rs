@@ -38,8 +38,9 @@
 //!   Used for plotting the individual lobes and as a cross-check.
 //! * [`LobeProblem::critical_depth`] — **the method used for every envelope, b_min and b_max**:
 //!   at a given speed the phase function `g(ω)` is evaluated on the frequency grid, every
-//!   crossing of a multiple of π with `Re f < 0` is bracketed, the candidates whose
-//!   interpolated depth is within 5 % of the smallest are refined by a bracketing root finder
+//!   crossing of a multiple of π with `Re f < 0` is bracketed, the candidates are refined in
+//!   the order of their interpolated depth, as long as it is within 5 % of the smallest exact
+//!   depth found, by a bracketing root finder
 //!   (Illinois regula falsi) on `sin g(ω)` evaluated with the **exact** FRF closure
 //!   (relative tolerance 1e-12 in ω), and the smallest depth wins. The envelope is thus exact
 //!   at every speed (no resampling or interpolation of lobe curves), and
@@ -139,6 +140,27 @@ impl GridOptions {
         }
     }
 
+    /// Sample `eval` on the band (validated) by bisecting the logarithmic grid wherever
+    /// `split(left, right)` asks for it or `Δω > 1/τ_max` ([`crate::bracket`]).
+    pub(crate) fn sample<S: Clone>(
+        &self,
+        eval: impl Fn(f64) -> Result<S, LobeError>,
+        split: impl Fn(&S, &S) -> bool,
+    ) -> Result<Vec<(f64, S)>, LobeError> {
+        if !(self.f_lo > 0.0 && self.f_hi > self.f_lo && self.f_hi.is_finite()) {
+            return Err(LobeError::InvalidBand { f_lo: self.f_lo, f_hi: self.f_hi });
+        }
+        let max_dw = 1.0 / self.tau_max.max(1e-300);
+        bisect_grid(
+            (2.0 * PI * self.f_lo, 2.0 * PI * self.f_hi),
+            self.coarse_points,
+            self.max_points,
+            eval,
+            |wl, l, wr, r| wr - wl > max_dw || split(l, r),
+            || LobeError::TooManyPoints { max_points: self.max_points },
+        )
+    }
+
     /// The same grid with every step limit divided by `factor` (for convergence checks).
     pub fn refined(mut self, factor: f64) -> GridOptions {
         self.max_phase_step /= factor;
@@ -190,9 +212,6 @@ pub struct FrfGrid {
 impl FrfGrid {
     /// Sample `frf` adaptively (see the module documentation).
     pub fn adaptive<F: Fn(f64) -> Complex64>(frf: &F, opt: &GridOptions) -> Result<FrfGrid, LobeError> {
-        if !(opt.f_lo > 0.0 && opt.f_hi > opt.f_lo && opt.f_hi.is_finite()) {
-            return Err(LobeError::InvalidBand { f_lo: opt.f_lo, f_hi: opt.f_hi });
-        }
         let eval = |w: f64| -> Result<Complex64, LobeError> {
             let v = frf(w);
             if v.re.is_finite() && v.im.is_finite() && v.norm() > 0.0 {
@@ -201,20 +220,12 @@ impl FrfGrid {
                 Err(LobeError::NonFiniteFrf { freq_hz: w / (2.0 * PI) })
             }
         };
-        let max_dw = 1.0 / opt.tau_max.max(1e-300);
-        let split = |wl: f64, l: &Complex64, wr: f64, r: &Complex64| {
+        let split = |l: &Complex64, r: &Complex64| {
             let dphi = (r * l.conj()).arg().abs();
             let dmag = (r.norm() / l.norm()).ln().abs();
-            dphi > opt.max_phase_step || dmag > opt.max_log_mag_step || wr - wl > max_dw
+            dphi > opt.max_phase_step || dmag > opt.max_log_mag_step
         };
-        let out = bisect_grid(
-            (2.0 * PI * opt.f_lo, 2.0 * PI * opt.f_hi),
-            opt.coarse_points,
-            opt.max_points,
-            eval,
-            split,
-            || LobeError::TooManyPoints { max_points: opt.max_points },
-        )?;
+        let out = opt.sample(eval, split)?;
         let phase = unwrap_phase(out.iter().map(|p| p.1));
         Ok(FrfGrid { omega: out.iter().map(|p| p.0).collect(), frf: out.iter().map(|p| p.1).collect(), phase })
     }

@@ -1,7 +1,7 @@
 //! The frequency grid of a receptance and the eigenvalue branches on it (parent module docs).
 
 use super::{Receptance, eig2};
-use crate::bracket::{Crossing, bisect_grid, illinois, phase_crossings, refine_best, unwrap_phase};
+use crate::bracket::{Crossing, illinois, phase_crossings, refine_best, unwrap_phase};
 use crate::zero_order::{GridOptions, LobeError};
 use nalgebra::Matrix2;
 use num_complex::Complex64;
@@ -35,15 +35,12 @@ fn paired(l: [Complex64; 2], r: [Complex64; 2]) -> [Complex64; 2] {
 
 /// Sample G adaptively (parent module docs): every entry and both eigenvalues of `hbar·G` change
 /// by at most the phase and log-magnitude steps of `opt` between neighbours, and
-/// `Δω ≤ 1/τ_max`.
+/// `Δω ≤ 1/τ_max` ([`GridOptions::sample`]).
 pub(crate) fn sample<R: Receptance + ?Sized>(
     frf: &R,
     hbar: &Matrix2<Complex64>,
     opt: &GridOptions,
 ) -> Result<Sampled, LobeError> {
-    if !(opt.f_lo > 0.0 && opt.f_hi > opt.f_lo && opt.f_hi.is_finite()) {
-        return Err(LobeError::InvalidBand { f_lo: opt.f_lo, f_hi: opt.f_hi });
-    }
     let eval = |w: f64| -> Result<(Matrix2<Complex64>, [Complex64; 2]), LobeError> {
         let g = frf.receptance(w);
         if g.iter().all(|v| v.re.is_finite() && v.im.is_finite()) && g.iter().any(|v| v.norm() > 0.0) {
@@ -52,30 +49,18 @@ pub(crate) fn sample<R: Receptance + ?Sized>(
             Err(LobeError::NonFiniteFrf { freq_hz: w / (2.0 * PI) })
         }
     };
-    let max_dw = 1.0 / opt.tau_max.max(1e-300);
     let too_big =
         |s: Option<(f64, f64)>| s.is_some_and(|(dp, dm)| dp > opt.max_phase_step || dm > opt.max_log_mag_step);
-    let split =
-        |wl: f64, l: &(Matrix2<Complex64>, [Complex64; 2]), wr: f64, r: &(Matrix2<Complex64>, [Complex64; 2])| {
-            if wr - wl > max_dw {
-                return true;
-            }
-            let gs = l.0.iter().chain(r.0.iter()).map(|v| v.norm()).fold(0.0, f64::max);
-            if l.0.iter().zip(r.0.iter()).any(|(a, b)| too_big(steps(*a, *b, gs))) {
-                return true;
-            }
-            let rp = paired(l.1, r.1);
-            let ps = l.1[0].norm().max(rp[0].norm());
-            (0..2).any(|j| too_big(steps(l.1[j], rp[j], ps)))
-        };
-    let out = bisect_grid(
-        (2.0 * PI * opt.f_lo, 2.0 * PI * opt.f_hi),
-        opt.coarse_points,
-        opt.max_points,
-        eval,
-        split,
-        || LobeError::TooManyPoints { max_points: opt.max_points },
-    )?;
+    let split = |l: &(Matrix2<Complex64>, [Complex64; 2]), r: &(Matrix2<Complex64>, [Complex64; 2])| {
+        let gs = l.0.iter().chain(r.0.iter()).map(|v| v.norm()).fold(0.0, f64::max);
+        if l.0.iter().zip(r.0.iter()).any(|(a, b)| too_big(steps(*a, *b, gs))) {
+            return true;
+        }
+        let rp = paired(l.1, r.1);
+        let ps = l.1[0].norm().max(rp[0].norm());
+        (0..2).any(|j| too_big(steps(l.1[j], rp[j], ps)))
+    };
+    let out = opt.sample(eval, split)?;
     Ok(Sampled { omega: out.iter().map(|p| p.0).collect(), g: out.into_iter().map(|p| p.1.0).collect() })
 }
 
@@ -168,7 +153,12 @@ impl Branches {
             phase_crossings((&self.omega, &self.phase[b]), |i| pb[i].norm(), tau, (-1.0, 2.0), valid, b, &mut cands);
         }
         refine_best(&cands, |c| {
-            self.refine(c.tag, c.index, tau, &eig_at).filter(|r| accept(r.0, r.2)).map(|r| (r.0, r.1))
+            // a root the caller rejects at both ends of its bracket is not refined
+            let (b, i) = (c.tag, c.index);
+            if !accept(self.omega[i], self.p[b][i]) && !accept(self.omega[i + 1], self.p[b][i + 1]) {
+                return None;
+            }
+            self.refine(b, i, tau, &eig_at).filter(|r| accept(r.0, r.2)).map(|r| (r.0, r.1))
         })
     }
 
@@ -190,9 +180,37 @@ impl Branches {
         // sin g = −Re(e^{iωτ/2} p̄)/|p|
         let s = |w: f64, p: Complex64| -(Complex64::from_polar(1.0, w * tau / 2.0) * p.conj()).re / p.norm();
         let w = illinois(wa, s(wa, pa), wb, s(wb, pb), |w| s(w, pick(w)))?;
-        let c = Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau);
         let p = pick(w);
+        // a jump between eigenvalues inside the bracket is not a root
+        if s(w, p).abs() > 1e-6 {
+            return None;
+        }
+        let c = Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau);
         let depth = 1.0 / (c * p).re;
         (depth > 0.0 && depth.is_finite()).then_some((w, depth, p))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_jump_between_eigenvalues_is_not_a_root() {
+        // branch 0 turns from arg −π/2 − 0.3 to −π/2 + 0.3 across the grid interval: a bracketed
+        // crossing of g = 0 with the positive-depth side; but the exact eigenvalues are the two
+        // end values, constant, so the branch only jumps from one to the other at ω = 1.5
+        let (pa, pb) = (Complex64::from_polar(1.0, -PI / 2.0 - 0.3), Complex64::from_polar(1.0, -PI / 2.0 + 0.3));
+        let q = Complex64::new(-5.0, 0.0);
+        let b = Branches::track(vec![1.0, 2.0], vec![vec![pa, q], vec![pb, q]]);
+        let tau = 1e-3;
+        assert!(b.critical(tau, |_| vec![pa, pb, q], |_, _| true).is_none());
+        // a smooth turn of the same eigenvalue is a root, at arg p = −π/2 + ωτ/2
+        let smooth = |w: f64| vec![Complex64::from_polar(1.0, -PI / 2.0 + 0.6 * (w - 1.5)), q];
+        let (w, depth) = b.critical(tau, smooth, |_, _| true).unwrap();
+        let p = smooth(w)[0];
+        assert!((p.arg() - (-PI / 2.0 + w * tau / 2.0)).abs() < 1e-9, "{w}: {p}");
+        let c = Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -w * tau);
+        assert!(((c * p).re * depth - 1.0).abs() < 1e-9);
     }
 }

@@ -1,31 +1,10 @@
-//! The multi-frequency solver (parent module docs).
-//!
-//! # Number of harmonics
-//!
-//! The truncation `|k| ≤ h` must (i) resolve the pulse of `H(t)`: a tooth cuts for the fraction
-//! `d = (φ_e − φ_s)/(2π/z)` of the tooth period, and `H_r` is significant up to `r ≈ 1/d`; and
-//! (ii) reach the sidebands `ω + k ω_T` that fall on the structure's response at `±ω`, i.e.
-//! `h ω_T ≳ 2 ω_top` with `ω_top` the highest frequency where some entry of G is above 10 % of
-//! its peak over the band. The default ([`MultiFrequency::new`]) takes per speed
-//!
-//! ```text
-//! h = max(⌈1.6/d⌉, ⌈2 f_top/f_T⌉),   at most 16,   and h = 0 if H(t) is constant,
-//! ```
-//!
-//! (`f_T` the tooth-passing frequency), tuned so that one more harmonic changes the boundary by
-//! less than 0.1 % on the low-immersion cases of the tests (a/D = 0.05 and 0.1, the 1-DOF
-//! Insperger–Stépán benchmark and the 3-mode machine; tested with h + 2 at several speeds).
-//! [`MultiFrequency::with_harmonics`] fixes h instead.
+//! The multi-frequency solver (parent module docs, also for the number of harmonics).
 
 use super::branches::{Branches, sample};
-use super::{
-    CriticalPoint, Extremes, GridOptions, LobeError, Receptance, complex, directional_harmonics, eig2, mean_of,
-};
+use super::{CriticalPoint, GridOptions, LobeError, Lobes, Receptance, complex, directional_harmonics, eig2, mean_of};
 use crate::milling::Cutter;
-use crate::zero_order::extremes;
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 use num_complex::Complex64;
-use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// The largest automatic h.
@@ -38,7 +17,7 @@ pub struct MultiFrequency<R> {
     teeth: u32,
     /// `Some(h)`: fixed; `None`: the automatic rule (module docs).
     fixed: Option<usize>,
-    /// ⌈1.6/d⌉ (0 if H is constant).
+    /// ⌈2/d⌉ (0 if H is constant).
     h_duty: usize,
     /// The highest frequency where G is above 10 % of its peak \[Hz\].
     f_top: f64,
@@ -71,7 +50,7 @@ impl<R: Receptance> MultiFrequency<R> {
         Self::build(frf, cutter, opt, h)
     }
 
-    /// The default grid: [`GridOptions::new`] with phase and log-magnitude steps of 0.05, coarser
+    /// The default grid: [`GridOptions::new`] with phase and log-magnitude steps of 0.1, coarser
     /// than the zero-order solver's (every grid point costs an eigenvalue problem of size
     /// 2(2h + 1) per speed, and the grid only brackets the roots, which are then solved exactly).
     fn options(cutter: &Cutter, band_hz: (f64, f64), rpm_min: f64) -> Result<GridOptions, LobeError> {
@@ -79,8 +58,8 @@ impl<R: Receptance> MultiFrequency<R> {
             return Err(LobeError::Invalid(format!("the slowest speed must be > 0 (got {rpm_min} rpm)")));
         }
         let mut opt = GridOptions::new(band_hz.0, band_hz.1, cutter.teeth, rpm_min);
-        opt.max_phase_step = 0.05;
-        opt.max_log_mag_step = 0.05;
+        opt.max_phase_step = 0.1;
+        opt.max_log_mag_step = 0.1;
         Ok(opt)
     }
 
@@ -97,7 +76,7 @@ impl<R: Receptance> MultiFrequency<R> {
         let harm = directional_harmonics(cutter, 2 * fixed.unwrap_or(AUTO_MAX));
         let constant = harm[1..].iter().all(|m| m.norm() <= 1e-9 * harm[0].norm());
         let duty = ((cutter.exit - cutter.entry) / cutter.pitch()).min(1.0);
-        let h_duty = if constant { 0 } else { (1.6 / duty).ceil() as usize };
+        let h_duty = if constant { 0 } else { (2.0 / duty - 1e-9).ceil() as usize };
         Ok(MultiFrequency { frf, teeth: cutter.teeth, fixed, h_duty, f_top, harm, omega: s.omega })
     }
 
@@ -179,11 +158,13 @@ impl<R: Receptance> MultiFrequency<R> {
             g.iter().enumerate().map(|(k, gk)| (gk * Vector2::new(x[2 * k], x[2 * k + 1])).norm()).collect();
         v[h] >= 0.5 * v.iter().copied().fold(0.0, f64::max)
     }
+}
 
+impl<R: Receptance> Lobes for MultiFrequency<R> {
     /// The critical depth \[m\] at `rpm` and its chatter frequency: the base frequency ω of the
     /// root in the band whose central harmonic dominates (the vibration also contains
     /// ω + k ω_T); `f64::INFINITY` (and NaN) where no root gives a positive depth.
-    pub fn critical_depth(&self, rpm: f64) -> CriticalPoint {
+    fn critical_depth(&self, rpm: f64) -> CriticalPoint {
         let none = CriticalPoint { rpm, depth: f64::INFINITY, chatter_hz: f64::NAN };
         if !(rpm.is_finite() && rpm > 0.0) {
             return none;
@@ -197,15 +178,5 @@ impl<R: Receptance> MultiFrequency<R> {
             Some((w, depth)) => CriticalPoint { rpm, depth, chatter_hz: w / (2.0 * PI) },
             None => none,
         }
-    }
-
-    /// Critical depths on a speed grid (parallel over speeds).
-    pub fn diagram(&self, rpm: &[f64]) -> Vec<CriticalPoint> {
-        rpm.par_iter().map(|&n| self.critical_depth(n)).collect()
-    }
-
-    /// b_min and b_max of a computed diagram ([`crate::zero_order::extremes`]).
-    pub fn extremes(&self, diagram: &[CriticalPoint]) -> Option<Extremes> {
-        extremes(diagram, |n| self.critical_depth(n))
     }
 }

@@ -52,9 +52,8 @@ fn the_modal_receptance_is_the_structure_of_the_milling_model() {
     for hz in [100.0, 610.0, 1099.0, 2500.0] {
         let w = 2.0 * PI * hz;
         let n = s.dim();
-        let q = nalgebra::DMatrix::from_fn(n, n, |i, j| {
-            Complex64::new(if i == j { 0.0 } else { 0.0 }, if i == j { w } else { 0.0 }) - s.a[(i, j)]
-        });
+        let q =
+            nalgebra::DMatrix::from_fn(n, n, |i, j| Complex64::new(0.0, if i == j { w } else { 0.0 }) - s.a[(i, j)]);
         let x = q.lu().solve(&s.bt.map(Complex64::from)).unwrap();
         let ss = s.ct.map(Complex64::from) * x;
         let gm = g.receptance(w);
@@ -95,6 +94,69 @@ fn one_direction_equals_the_one_dimensional_solver() {
             }
         }
         assert!(finite > 150, "{frac}: only {finite} finite depths");
+    }
+}
+
+/// The 3-mode machine turned by 30° plus a cross-coupled mode at 800 Hz along 120°: G has
+/// off-diagonal terms (G stays symmetric, so only a non-reciprocal G, below, can tell H̄ G from
+/// H̄ᵀ G).
+pub(crate) fn coupled() -> Vec<ModeShape> {
+    let t = 30f64.to_radians();
+    let (c, s) = (t.cos(), t.sin());
+    vec![
+        ModalReceptance::mode(600.0, 2e7, 0.03, [c, s]),
+        ModalReceptance::mode(1100.0, 5e7, 0.02, [c, s]),
+        ModalReceptance::mode(650.0, 2.5e7, 0.035, [-s, c]),
+        ModalReceptance::mode(800.0, 3e7, 0.025, [120f64.to_radians().cos(), 120f64.to_radians().sin()]),
+    ]
+}
+
+#[test]
+fn with_cross_coupled_modes_zero_order_equals_the_exact_boundary() {
+    for frac in [1.0, 0.3] {
+        let (e, x) = Cutter::immersion(frac, Milling::Up);
+        let cutter = Cutter::new(3, e, x, 8e8, 2.4e8, ForceLaw::Linear).unwrap();
+        let zo = ZeroOrder2d::new(ModalReceptance::new(&coupled()).unwrap(), &cutter, (10.0, 4000.0), 4000.0).unwrap();
+        let ti = MillingModel::new(&Structure::from_modes(&coupled()).unwrap(), cutter, None).unwrap().time_invariant();
+        for rpm in speed_grid(4000.0, 30000.0, 27) {
+            let ours = zo.critical_depth(rpm);
+            let ex = ti.critical_depth(rpm, 40_000).unwrap().unwrap();
+            assert_relative_eq!(ours.depth, ex.depth, max_relative = 1e-4);
+        }
+    }
+}
+
+#[test]
+fn a_non_reciprocal_receptance_as_a_closure_equals_the_exact_boundary() {
+    // the 3-mode machine with a static skew-symmetric feedback F_a = D_c v_a at an actuator point:
+    // G = C_t (iω − A − B_a D_c C_a)⁻¹ B_t is not symmetric, so (unlike for a reciprocal
+    // structure, where eig(H̄ G) = eig(H̄ᵀ G)) the order of H̄ and G matters
+    let mut modes = machine();
+    for (m, a) in modes.iter_mut().zip([[0.6, 0.2], [0.9, -0.3], [0.1, 0.7]]) {
+        m.actuator = [a[0] * (m.tool[0] + m.tool[1]), a[1] * (m.tool[0] + m.tool[1])];
+    }
+    let s = Structure::from_modes(&modes).unwrap();
+    let dc = nalgebra::DMatrix::from_row_slice(2, 2, &[0.0, 3e6, -3e6, 0.0]);
+    let a_cl = &s.a + &s.ba * &dc * &s.ca;
+    let (ct, bt) = (s.ct.map(Complex64::from), s.bt.map(Complex64::from));
+    let g = move |w: f64| {
+        let n = a_cl.nrows();
+        let q =
+            nalgebra::DMatrix::from_fn(n, n, |i, j| Complex64::new(0.0, if i == j { w } else { 0.0 }) - a_cl[(i, j)]);
+        let x = &ct * q.lu().solve(&bt).unwrap();
+        Matrix2::new(x[(0, 0)], x[(0, 1)], x[(1, 0)], x[(1, 1)])
+    };
+    let g0 = g(2.0 * PI * 640.0);
+    assert!((g0[(0, 1)] - g0[(1, 0)]).norm() > 0.1 * g0[(0, 1)].norm(), "G is not skew enough: {g0}");
+    let (e, x) = Cutter::immersion(0.5, Milling::Up);
+    let cutter = Cutter::new(3, e, x, 8e8, 2.4e8, ForceLaw::Linear).unwrap();
+    let model = MillingModel::new(&s, cutter.clone(), Some(&crate::milling::Controller::static_gain(dc, 0.0))).unwrap();
+    assert!(model.undelayed_poles()[0].re < 0.0);
+    let ti = model.time_invariant();
+    let zo = ZeroOrder2d::new(g, &cutter, (10.0, 4000.0), 4000.0).unwrap();
+    for rpm in speed_grid(4000.0, 30000.0, 27) {
+        let ex = ti.critical_depth(rpm, 40_000).unwrap().unwrap();
+        assert_relative_eq!(zo.critical_depth(rpm).depth, ex.depth, max_relative = 1e-4);
     }
 }
 

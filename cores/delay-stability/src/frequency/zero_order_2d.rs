@@ -1,12 +1,10 @@
 //! The 2-D zero-order (Altintas–Budak) solver (parent module docs).
 
 use super::branches::{Branches, sample};
-use super::{CriticalPoint, Extremes, GridOptions, LobeError, Receptance, complex, eig2, mean_of};
+use super::{CriticalPoint, GridOptions, LobeError, Lobes, Receptance, complex, eig2, mean_of};
 use crate::milling::Cutter;
-use crate::zero_order::extremes;
 use nalgebra::Matrix2;
 use num_complex::Complex64;
-use rayon::prelude::*;
 use std::f64::consts::PI;
 
 /// Zero-order lobes of a 2 × 2 receptance under a [`Cutter`]: the exact boundary of the averaged
@@ -53,10 +51,12 @@ impl<R: Receptance> ZeroOrder2d<R> {
     pub fn receptance(&self) -> &R {
         &self.frf
     }
+}
 
+impl<R: Receptance> Lobes for ZeroOrder2d<R> {
     /// The critical depth \[m\] at `rpm` and its chatter frequency; `f64::INFINITY` (and NaN)
     /// where no eigenvalue gives a positive depth in the band.
-    pub fn critical_depth(&self, rpm: f64) -> CriticalPoint {
+    fn critical_depth(&self, rpm: f64) -> CriticalPoint {
         let none = CriticalPoint { rpm, depth: f64::INFINITY, chatter_hz: f64::NAN };
         if !(rpm.is_finite() && rpm > 0.0) {
             return none;
@@ -67,16 +67,5 @@ impl<R: Receptance> ZeroOrder2d<R> {
             Some((w, depth)) => CriticalPoint { rpm, depth, chatter_hz: w / (2.0 * PI) },
             None => none,
         }
-    }
-
-    /// Critical depths on a speed grid (parallel over speeds).
-    pub fn diagram(&self, rpm: &[f64]) -> Vec<CriticalPoint> {
-        rpm.par_iter().map(|&n| self.critical_depth(n)).collect()
-    }
-
-    /// b_min and b_max of a computed diagram, refined on the exact depth
-    /// ([`crate::zero_order::extremes`]).
-    pub fn extremes(&self, diagram: &[CriticalPoint]) -> Option<Extremes> {
-        extremes(diagram, |n| self.critical_depth(n))
     }
 }
