@@ -30,7 +30,7 @@ use crate::scenario::{Roles, roles};
 use crate::tuning::mean_std;
 use chatter_control::Structure;
 use fmi_master::csv::CsvWriter;
-use fmi_master::plot::{Envelope, Mark, Panel};
+use fmi_master::plot::{Envelope, Mark, Panel, Quantity};
 use fmi_master::spectrum::{Spectrum, single_sided};
 use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
 use model_description::Value;
@@ -436,7 +436,6 @@ fn write_outputs(
     runs: &[RunResult],
     (tooth, natural, dist): RefFreqs,
 ) -> Result<Collected> {
-    let first_seed = spec.seeds[0];
     let mut written = Vec::new();
     // Per-run summary.
     let summary = out.join("runs_summary.csv");
@@ -458,7 +457,7 @@ fn write_outputs(
     let mut lines = Vec::new();
     lines.push(format!(
         "Nominal scenario ({}; {} seeds: {}–{}), RMS tip displacement over the run, mean ± sample std:",
-        sys.origin,
+        system_label(spec, sys),
         spec.seeds.len(),
         spec.seeds[0],
         spec.seeds[spec.seeds.len() - 1]
@@ -514,43 +513,60 @@ fn write_outputs(
         })
         .collect();
     if !firsts.is_empty() {
-        let fig6 = out.join("fig6_time_history.png");
-        let panels: Vec<Panel<'_, Envelope>> =
-            firsts.iter().map(|(l, (e, _))| Panel { title: format!("{l} (seed {first_seed})"), data: e }).collect();
-        fmi_master::plot::time_histories(
-            &fig6,
-            &format!("Tip displacement {} (cf. seed Figure 6)", roles.measured()),
-            &panels,
-            1e6,
-            "x [µm]",
-        )?;
-        written.push(fig6);
-        let fig7 = out.join("fig7_spectrum.png");
-        let mut marks = Vec::new();
-        if let Some(f) = dist {
-            marks.push(Mark { freq: f, label: "disturbance".into() });
-        }
-        if let Some(f) = tooth {
-            marks.push(Mark { freq: f, label: "tooth passing Z·N/60".into() });
-        }
-        if let Some(f) = natural {
-            marks.push(Mark { freq: f, label: "1st natural frequency".into() });
-        }
-        let panels: Vec<Panel<'_, Spectrum>> =
-            firsts.iter().map(|(l, (_, s))| Panel { title: format!("{l} (seed {first_seed})"), data: s }).collect();
-        fmi_master::plot::spectra(
-            &fig7,
-            "Single-sided amplitude spectrum |P1(f)| of the tip displacement (cf. seed Figure 7)",
-            &panels,
-            400.0,
-            &marks,
-            1e6,
-            "|P1| [µm]",
-        )?;
-        written.push(fig7);
+        let (fig6, fig7) = (out.join("fig6_time_history.png"), out.join("fig7_spectrum.png"));
+        figures(spec, sys, roles, (&fig6, &fig7), &firsts, (tooth, natural, dist))?;
+        written.extend([fig6, fig7]);
     }
     written.push(out.join("runs"));
     Ok(Collected { text: table_text, written })
+}
+
+/// The system as the titles name it: its file name, and the job's `--set` overrides if any.
+fn system_label(spec: &MainJobSpec, sys: &SystemFile) -> String {
+    let path = Path::new(&sys.origin);
+    let name = path.file_name().map_or_else(|| sys.origin.clone(), |f| f.to_string_lossy().into_owned());
+    if spec.overrides.is_empty() { name } else { format!("{name} with --set {}", spec.overrides.join(", ")) }
+}
+
+/// Figures 6 and 7 from the first seed's envelope and spectrum of each case.
+fn figures(
+    spec: &MainJobSpec,
+    sys: &SystemFile,
+    roles: &Roles,
+    (fig6, fig7): (&Path, &Path),
+    firsts: &[(&String, &(Envelope, Spectrum))],
+    (tooth, natural, dist): RefFreqs,
+) -> Result<()> {
+    let first_seed = spec.seeds[0];
+    let measured = roles.measured();
+    // the unit and description of the measured variable, as the plant FMU declares them
+    let var = fmi_master::plot::variables(sys, std::slice::from_ref(&measured))?.remove(0).unwrap_or_default();
+    let unit = if var.unit.is_empty() { "m".to_string() } else { var.unit };
+    let what = var.description.unwrap_or_else(|| "tip displacement".into());
+    let name = measured.split_once('.').map_or(measured.as_str(), |p| p.1);
+    let extent = firsts.iter().map(|(_, (e, _))| e.extent()).fold(0.0, f64::max);
+    let y = Quantity::scaled(name, &unit, extent);
+    let system = system_label(spec, sys);
+    let panels: Vec<Panel<'_, Envelope>> = firsts
+        .iter()
+        .map(|(l, (e, _))| Panel { title: format!("{l} (seed {first_seed})"), data: e, y: y.clone() })
+        .collect();
+    let title = format!("{measured}, {what}: {system} (cf. seed Figure 6)");
+    fmi_master::plot::time_histories(fig6, &title, &panels, true)?;
+    let marks: Vec<Mark> =
+        [(dist, "disturbance"), (tooth, "tooth passing Z·N/60"), (natural, "first natural frequency")]
+            .into_iter()
+            .filter_map(|(f, label)| f.map(|freq| Mark { freq, label: label.into() }))
+            .collect();
+    // the spectra in the unit of the time histories
+    let y = Quantity { label: y.label.replacen(name, &format!("|P1| of {name}"), 1), ..y };
+    let panels: Vec<Panel<'_, Spectrum>> = firsts
+        .iter()
+        .map(|(l, (_, s))| Panel { title: format!("{l} (seed {first_seed})"), data: s, y: y.clone() })
+        .collect();
+    let title = format!("Single-sided amplitude spectrum |P1(f)| of {measured}: {system} (cf. seed Figure 7)");
+    fmi_master::plot::spectra(fig7, &title, &panels, 400.0, &marks, true)?;
+    Ok(())
 }
 
 #[cfg(test)]
