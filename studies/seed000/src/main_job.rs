@@ -30,7 +30,7 @@ use crate::scenario::{Roles, roles};
 use crate::tuning::mean_std;
 use chatter_control::Structure;
 use fmi_master::csv::CsvWriter;
-use fmi_master::plot::{Envelope, Mark, Panel, Quantity};
+use fmi_master::plot::Envelope;
 use fmi_master::spectrum::{Spectrum, single_sided};
 use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
 use model_description::Value;
@@ -41,6 +41,9 @@ use std::time::{Duration, Instant};
 use study_kit::StudyError;
 use study_kit::cases::{self, CaseStudy, Collected, Selection};
 use study_kit::fmu_params;
+
+mod figures;
+use figures::{figures, system_label};
 
 /// One row of the seed's Table 5: label, RMS mean and std [µm], reduction mean and std [%].
 pub type SeedRow = (&'static str, f64, f64, Option<(f64, f64)>);
@@ -519,54 +522,6 @@ fn write_outputs(
     }
     written.push(out.join("runs"));
     Ok(Collected { text: table_text, written })
-}
-
-/// The system as the titles name it: its file name, and the job's `--set` overrides if any.
-fn system_label(spec: &MainJobSpec, sys: &SystemFile) -> String {
-    let path = Path::new(&sys.origin);
-    let name = path.file_name().map_or_else(|| sys.origin.clone(), |f| f.to_string_lossy().into_owned());
-    if spec.overrides.is_empty() { name } else { format!("{name} with --set {}", spec.overrides.join(", ")) }
-}
-
-/// Figures 6 and 7 from the first seed's envelope and spectrum of each case.
-fn figures(
-    spec: &MainJobSpec,
-    sys: &SystemFile,
-    roles: &Roles,
-    (fig6, fig7): (&Path, &Path),
-    firsts: &[(&String, &(Envelope, Spectrum))],
-    (tooth, natural, dist): RefFreqs,
-) -> Result<()> {
-    let first_seed = spec.seeds[0];
-    let measured = roles.measured();
-    // the unit and description of the measured variable, as the plant FMU declares them
-    let var = fmi_master::plot::variables(sys, std::slice::from_ref(&measured))?.remove(0).unwrap_or_default();
-    let unit = if var.unit.is_empty() { "m".to_string() } else { var.unit };
-    let what = var.description.unwrap_or_else(|| "tip displacement".into());
-    let name = measured.split_once('.').map_or(measured.as_str(), |p| p.1);
-    let extent = firsts.iter().map(|(_, (e, _))| e.extent()).fold(0.0, f64::max);
-    let y = Quantity::scaled(name, &unit, extent);
-    let system = system_label(spec, sys);
-    let panels: Vec<Panel<'_, Envelope>> = firsts
-        .iter()
-        .map(|(l, (e, _))| Panel { title: format!("{l} (seed {first_seed})"), data: e, y: y.clone() })
-        .collect();
-    let title = format!("{measured}, {what}: {system} (cf. seed Figure 6)");
-    fmi_master::plot::time_histories(fig6, &title, &panels, true)?;
-    let marks: Vec<Mark> =
-        [(dist, "disturbance"), (tooth, "tooth passing Z·N/60"), (natural, "first natural frequency")]
-            .into_iter()
-            .filter_map(|(f, label)| f.map(|freq| Mark { freq, label: label.into() }))
-            .collect();
-    // the spectra in the unit of the time histories
-    let y = Quantity { label: y.label.replacen(name, &format!("|P1| of {name}"), 1), ..y };
-    let panels: Vec<Panel<'_, Spectrum>> = firsts
-        .iter()
-        .map(|(l, (_, s))| Panel { title: format!("{l} (seed {first_seed})"), data: s, y: y.clone() })
-        .collect();
-    let title = format!("Single-sided amplitude spectrum |P1(f)| of {measured}: {system} (cf. seed Figure 7)");
-    fmi_master::plot::spectra(fig7, &title, &panels, 400.0, &marks, true)?;
-    Ok(())
 }
 
 #[cfg(test)]

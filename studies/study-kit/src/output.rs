@@ -70,7 +70,8 @@ fn draw(path: &Path, title: &str, series: &[Series], width: u32, height: u32) ->
     }
     // curves spanning more than a factor 20 are drawn on a logarithmic depth axis
     let log = ymax / ymin > 20.0;
-    let y_axis = if log { Axis::log(ymin / 1.12, ymax * 1.12, 12) } else { Axis::linear_rounded(0.0, ymax * 1.02, 10) };
+    let y_axis =
+        if log { Axis::log_rounded(ymin / 1.05, ymax * 1.05, 12) } else { Axis::linear_rounded(0.0, ymax * 1.02, 10) };
     let root = canvas(path, (width, height + 22 * title.lines().count().saturating_sub(1) as u32))?;
     let below = titled(&root, title, 22)?;
     let colour = |i: usize| PALETTE[i % PALETTE.len()];

@@ -69,6 +69,15 @@ impl Axis {
         Axis { lo, hi, log: true, ticks, minor, decimals: 0 }
     }
 
+    /// A logarithmic axis whose ends are widened to the nearest 1, 2 or 5 × 10ᵏ outside `[lo, hi]`.
+    pub fn log_rounded(lo: f64, hi: f64, max_ticks: usize) -> Axis {
+        let steps = |k: i32| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(k));
+        let (klo, khi) = (lo.log10().floor() as i32, hi.log10().floor() as i32);
+        let below = steps(klo).into_iter().filter(|v| *v <= lo * (1.0 + 1e-9)).fold(lo, |_, v| v);
+        let above = steps(khi).into_iter().chain([10f64.powi(khi + 1)]).find(|v| *v >= hi * (1.0 - 1e-9)).unwrap_or(hi);
+        Axis::log(below, above, max_ticks)
+    }
+
     /// The labelled ticks.
     pub fn ticks(&self) -> &[f64] {
         &self.ticks
@@ -214,6 +223,8 @@ mod tests {
         assert_eq!(labels(&Axis::log(1.1, 130.0, 10)), ["2", "5", "10", "20", "50", "100"]);
         assert_eq!(labels(&Axis::log(0.04, 0.6, 10)), ["0.05", "0.1", "0.2", "0.5"]);
         assert_eq!(labels(&Axis::log(1e-3, 1e3, 5)), ["0.001", "0.01", "0.1", "1", "10", "100", "1000"]);
+        assert_eq!(Axis::log_rounded(1.17, 137.0, 10).ends(), (1.0, 200.0));
+        assert_eq!(Axis::log_rounded(0.03, 4.0, 10).ends(), (0.02, 5.0));
         let a = Axis::log(1.0, 100.0, 10);
         assert_eq!(a.map(&10.0, (0, 200)), 100);
     }
