@@ -270,6 +270,10 @@ mod tests {
         let one = proportional_digits()[1].expect("Ubuntu has proportional figures");
         assert!(f.h_advance_unscaled(one) < f.h_advance_unscaled(f.glyph_id('1')));
         assert!(proportional_digits().iter().all(Option::is_some));
+        // a glyph's ink starts at its left bearing ("[": 3.6 px at 40 px), not at the pen
+        let f40 = f.as_scaled(PxScale::from(40.0));
+        let lsb = f40.h_side_bearing(f.glyph_id('['));
+        assert!((ink_runs("[", 40.0)[0].0 as f32 - lsb).abs() <= 1.0, "{:?} vs bearing {lsb}", ink_runs("[", 40.0));
         // the box is the advance width
         let (_, advance) = layout("11", 40.0);
         assert_eq!(text_box("11", 40.0).0, advance as i32);
