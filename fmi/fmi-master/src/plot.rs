@@ -163,6 +163,30 @@ fn stacked<'a>(
 const PANEL_H: u32 = 210;
 const X_DESC_H: u32 = 25;
 
+/// A panel of a stack on `axes` with its caption and mesh drawn: the y axis named `y_desc`, the
+/// x axis named only when `x_desc` is given (under the bottom panel).
+fn panel_chart<'a, 'b>(
+    area: &'a Area<'b>,
+    caption: &str,
+    axes: (Axis, Axis),
+    (x_desc, y_desc): (Option<&str>, &str),
+) -> Result<ChartContext<'a, Canvas<'b>, Cartesian2d<Axis, Axis>>, DrawError> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 18))
+        .margin(8)
+        .margin_right(30)
+        .x_label_area_size(if x_desc.is_some() { 30 + X_DESC_H } else { 30 })
+        .y_label_area_size(80)
+        .build_cartesian_2d(axes.0, axes.1)?;
+    let mut mesh = chart.configure_mesh();
+    mesh.y_desc(y_desc).label_style((FONT, 14)).axis_desc_style((FONT, 15));
+    if let Some(x) = x_desc {
+        mesh.x_desc(x);
+    }
+    mesh.draw()?;
+    Ok(chart)
+}
+
 /// Min/max envelope of a long signal in `bins` time bins (for drawing).
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Envelope {
@@ -266,20 +290,9 @@ fn draw_time_histories(
         let e = p.data;
         let (lo, hi) = if common_y { all } else { scaled(p) };
         let (y0, y1) = y_span(lo, hi);
-        let last = k + 1 == panels.len();
-        let mut chart = ChartBuilder::on(area)
-            .caption(&p.title, (FONT, 18))
-            .margin(8)
-            .margin_right(30)
-            .x_label_area_size(if last { 30 + X_DESC_H } else { 30 })
-            .y_label_area_size(80)
-            .build_cartesian_2d(Axis::linear(e.t0, e.t1, 9), Axis::linear(y0, y1, 9))?;
-        let mut mesh = chart.configure_mesh();
-        mesh.y_desc(&p.y.label).label_style((FONT, 14)).axis_desc_style((FONT, 15));
-        if last {
-            mesh.x_desc("time [s]");
-        }
-        mesh.draw()?;
+        let x_desc = (k + 1 == panels.len()).then_some("time [s]");
+        let axes = (Axis::linear(e.t0, e.t1, 9), Axis::linear(y0, y1, 9));
+        let mut chart = panel_chart(area, &p.title, axes, (x_desc, &p.y.label))?;
         let color = COLORS[k % COLORS.len()];
         // One vertical segment per bin from min to max, joined: the envelope.
         let mut pts = Vec::with_capacity(2 * e.bins.len());

@@ -2,7 +2,7 @@
 //! reference frequencies and the band where the spectra have energy, with margins, rounded to
 //! ticks ([`frequency_range`]). The 0 Hz (DC) bin, the signal's mean, is never drawn.
 
-use super::{Area, Axis, COLORS, DrawError, FONT, LegendEntry, Panel, PlotError, X_DESC_H, drawn, stacked};
+use super::{Area, Axis, COLORS, DrawError, LegendEntry, Panel, PlotError, drawn, panel_chart, stacked};
 use crate::spectrum::Spectrum;
 use plotters::prelude::*;
 use std::path::Path;
@@ -97,19 +97,8 @@ fn draw_panel(
     (marks, last): (&[Mark], bool),
     color: RGBColor,
 ) -> Result<(), DrawError> {
-    let mut chart = ChartBuilder::on(area)
-        .caption(&p.title, (FONT, 18))
-        .margin(8)
-        .margin_right(30)
-        .x_label_area_size(if last { 30 + X_DESC_H } else { 30 })
-        .y_label_area_size(80)
-        .build_cartesian_2d(Axis::linear(f0, f1, 17), Axis::linear(0.0, top, 8))?;
-    let mut mesh = chart.configure_mesh();
-    mesh.y_desc(&p.y.label).label_style((FONT, 14)).axis_desc_style((FONT, 15));
-    if last {
-        mesh.x_desc("frequency [Hz]");
-    }
-    mesh.draw()?;
+    let axes = (Axis::linear(f0, f1, 17), Axis::linear(0.0, top, 8));
+    let mut chart = panel_chart(area, &p.title, axes, (last.then_some("frequency [Hz]"), &p.y.label))?;
     for (j, m) in marks.iter().enumerate().filter(|(_, m)| m.freq >= f0 && m.freq <= f1) {
         let c = MARK_COLORS[j % MARK_COLORS.len()];
         chart.draw_series(DashedLineSeries::new(vec![(m.freq, 0.0), (m.freq, top)], 6, 4, c.stroke_width(1)))?;
