@@ -1,14 +1,32 @@
 //! PNG plots with plotters: stacked time histories (min/max envelopes, so a
 //! 3-million-sample run draws as fast and as faithfully as a short one) and
 //! single-sided amplitude spectra with marked reference frequencies, in the
-//! style of the seed's Figures 6 and 7.
+//! style of the seed's Figures 6 and 7; `cosim plot` of a results CSV with
+//! the units of the FMUs' model descriptions.
+//!
+//! Every figure is meant to go into a paper as it is: units on every axis
+//! ([`Quantity`]), ticks at round values with the decimals they need
+//! ([`Axis`]), one legend per figure, the x axis named once under the
+//! bottom panel of a stack.
 //!
 //! The CI machine has no system fonts: a TrueType font shipped inside the
 //! crates.io crate `epaint_default_fonts` (Ubuntu Light) is registered with
-//! plotters before drawing.
+//! plotters, and text is placed by [`Canvas`] (plotters' own ab_glyph
+//! layout drops the glyphs' side bearings: `canvas` says more).
+
+mod axis;
+mod canvas;
+mod csv_plot;
+mod spectra;
+
+pub use axis::{Axis, Quantity, nice_step, takes_prefix};
+pub use canvas::{Area, Canvas, canvas};
+pub use csv_plot::{Variable, plot_csv, variables};
+pub use spectra::{Mark, frequency_range, spectra};
 
 use crate::csv::CsvError;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::{Path, PathBuf};
 use std::sync::Once;
 
@@ -52,15 +70,121 @@ pub fn register_font() {
     });
 }
 
-/// A white 1400-pixel-wide canvas with a title row and `n` stacked panels.
-type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
-fn stacked<'a>(path: &'a Path, title: &str, n: usize) -> Result<(Area<'a>, Vec<Area<'a>>), DrawError> {
-    register_font();
-    let root = BitMapBackend::new(path, (1400, 220 * n as u32 + 60)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let (top, body) = root.split_vertically(50);
-    top.titled(title, (FONT, 26))?;
-    Ok((root, body.split_evenly((n, 1))))
+/// Line colours of the panels and curves (colour-blind-safe "tab10" order).
+pub const COLORS: [RGBColor; 4] =
+    [RGBColor(31, 119, 180), RGBColor(255, 127, 14), RGBColor(44, 160, 44), RGBColor(214, 39, 40)];
+
+/// Colours of the curves that share one axis: black first (the reference, e.g. the open loop),
+/// then a colour-blind-safe order.
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(0, 0, 0),
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+];
+
+/// One legend entry: a line of this colour, and its text.
+pub type LegendEntry = (String, RGBColor);
+
+/// A legend as one centred row of entries (a short line and its text), drawn once for a figure.
+pub fn legend_row(area: &Area<'_>, entries: &[LegendEntry], note: Option<&str>) -> Result<(), DrawError> {
+    let style = TextStyle::from((FONT, 15).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    let (line, gap) = (24, 28);
+    let widths: Vec<i32> = entries
+        .iter()
+        .map(|(t, _)| area.estimate_text_size(t, &style).map(|s| s.0 as i32))
+        .collect::<Result<_, _>>()?;
+    let note_w = match note {
+        Some(n) => area.estimate_text_size(n, &style)?.0 as i32 + gap,
+        None => 0,
+    };
+    let total: i32 = widths.iter().map(|w| line + 6 + w + gap).sum::<i32>() + note_w - gap;
+    let (w, h) = area.dim_in_pixel();
+    let (mut x, y) = (((w as i32 - total) / 2).max(0), h as i32 / 2);
+    for ((text, color), tw) in entries.iter().zip(widths) {
+        area.draw(&PathElement::new(vec![(x, y), (x + line, y)], color.stroke_width(2)))?;
+        area.draw(&Text::new(text.clone(), (x + line + 6, y), style.clone()))?;
+        x += line + 6 + tw + gap;
+    }
+    if let Some(n) = note {
+        area.draw(&Text::new(n.to_string(), (x, y), style.color(&RGBColor(90, 90, 90))))?;
+    }
+    Ok(())
+}
+
+/// Draw `title` centred at the top of `area` — its first line at `size` px, further lines (a
+/// subtitle: what was run) at 16 px — and return the area below it.
+pub fn titled<'a>(area: &Area<'a>, title: &str, size: u32) -> Result<Area<'a>, DrawError> {
+    let mut lines = title.lines();
+    let first = lines.next().unwrap_or("");
+    let rest: Vec<&str> = lines.collect();
+    let (top, below) = area.split_vertically(title_height(title, size));
+    let x = top.dim_in_pixel().0 as i32 / 2;
+    let centred = |px: u32| TextStyle::from((FONT, px).into_font()).pos(Pos::new(HPos::Center, VPos::Center));
+    top.draw(&Text::new(first.to_string(), (x, (size as i32 + 16) / 2), centred(size)))?;
+    for (i, line) in rest.iter().enumerate() {
+        let y = size as i32 + 16 + 22 * i as i32 + 8;
+        top.draw(&Text::new(line.to_string(), (x, y), centred(16).color(&RGBColor(60, 60, 60))))?;
+    }
+    Ok(below)
+}
+
+/// The height [`titled`] takes for `title` at `size`.
+pub fn title_height(title: &str, size: u32) -> u32 {
+    size + 16 + 22 * title.lines().count().saturating_sub(1) as u32
+}
+
+/// A canvas 1400 pixels wide for `n` stacked panels under a title ([`titled`]) (and a legend row when
+/// `legend` has entries or a note): the root and the panels' areas.
+fn stacked<'a>(
+    path: &'a Path,
+    title: &str,
+    (legend, note): (&[LegendEntry], Option<&str>),
+    n: usize,
+) -> Result<(Area<'a>, Vec<Area<'a>>), DrawError> {
+    let legend_h = if legend.is_empty() && note.is_none() { 0 } else { 30 };
+    let title_h = title_height(title, 24);
+    let root = canvas(path, (1400, PANEL_H * n as u32 + title_h + legend_h + X_DESC_H))?;
+    let below = titled(&root, title, 24)?;
+    let (key, body) = below.split_vertically(legend_h);
+    if legend_h > 0 {
+        legend_row(&key, legend, note)?;
+    }
+    // equal panels; the last also holds the x axis' name
+    let sizes: Vec<u32> = (1..n).map(|k| k as u32 * PANEL_H).collect();
+    Ok((root, body.split_by_breakpoints(Vec::<u32>::new(), sizes).into_iter().collect()))
+}
+
+/// Height of one panel of a stack, and what the bottom panel adds for the x axis' name.
+const PANEL_H: u32 = 210;
+const X_DESC_H: u32 = 25;
+
+/// A panel of a stack on `axes` with its caption and mesh drawn: the y axis named `y_desc`, the
+/// x axis named only when `x_desc` is given (under the bottom panel).
+fn panel_chart<'a, 'b>(
+    area: &'a Area<'b>,
+    caption: &str,
+    axes: (Axis, Axis),
+    (x_desc, y_desc): (Option<&str>, &str),
+) -> Result<ChartContext<'a, Canvas<'b>, Cartesian2d<Axis, Axis>>, DrawError> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 18))
+        .margin(8)
+        .margin_right(30)
+        .x_label_area_size(if x_desc.is_some() { 30 + X_DESC_H } else { 30 })
+        .y_label_area_size(80)
+        .build_cartesian_2d(axes.0, axes.1)?;
+    let mut mesh = chart.configure_mesh();
+    mesh.y_desc(y_desc).label_style((FONT, 14)).axis_desc_style((FONT, 15));
+    if let Some(x) = x_desc {
+        mesh.x_desc(x);
+    }
+    mesh.draw()?;
+    Ok(chart)
 }
 
 /// Min/max envelope of a long signal in `bins` time bins (for drawing).
@@ -97,8 +221,16 @@ impl Envelope {
         self.t0 + (i as f64 + 0.5) / self.bins.len() as f64 * (self.t1 - self.t0)
     }
 
-    fn extent(&self) -> f64 {
-        self.bins.iter().filter(|b| !b.0.is_nan()).map(|b| b.0.abs().max(b.1.abs())).fold(0.0, f64::max)
+    /// The largest magnitude.
+    pub fn extent(&self) -> f64 {
+        let (lo, hi) = self.bounds();
+        lo.abs().max(hi.abs())
+    }
+
+    /// The smallest and the largest value (NaN, NaN when empty).
+    pub fn bounds(&self) -> (f64, f64) {
+        let filled = self.bins.iter().filter(|b| !b.0.is_nan());
+        filled.fold((f64::NAN, f64::NAN), |(lo, hi), b| (b.0.min(lo), b.1.max(hi)))
     }
 }
 
@@ -108,49 +240,59 @@ pub struct Panel<'a, T> {
     pub title: String,
     /// Data.
     pub data: &'a T,
+    /// What the y axis shows (scale and label with unit).
+    pub y: Quantity,
 }
 
-const COLORS: [RGBColor; 4] =
-    [RGBColor(31, 119, 180), RGBColor(255, 127, 14), RGBColor(44, 160, 44), RGBColor(214, 39, 40)];
+/// A y range for values within `[lo, hi]`: symmetric about 0 when they change sign, 5 % margins,
+/// a small band around a constant.
+fn y_span(lo: f64, hi: f64) -> (f64, f64) {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return (-1.0, 1.0);
+    }
+    if hi - lo <= 1e-12 * hi.abs().max(lo.abs()) {
+        let d = if hi == 0.0 { 1.0 } else { 0.05 * hi.abs() };
+        return (lo - d, hi + d);
+    }
+    if lo < 0.0 && hi > 0.0 {
+        let m = lo.abs().max(hi) * 1.05;
+        return (-m, m);
+    }
+    let pad = 0.05 * (hi - lo);
+    (if lo >= 0.0 && lo - pad < 0.0 { 0.0 } else { lo - pad }, hi + pad)
+}
 
-/// Stacked time histories (envelopes), common y range; `scale` multiplies
-/// values (e.g. 1e6 for µm) and `unit` labels the y axis.
+/// Stacked time histories (envelopes) on one time axis; each panel's values are multiplied by
+/// its [`Quantity`]'s scale. `common_y`: one y range for all panels (to compare them), else each
+/// its own.
 pub fn time_histories(
     path: &Path,
     title: &str,
     panels: &[Panel<'_, Envelope>],
-    scale: f64,
-    unit: &str,
+    common_y: bool,
 ) -> Result<(), PlotError> {
-    drawn(path, draw_time_histories(path, title, panels, scale, unit))
+    drawn(path, draw_time_histories(path, title, panels, common_y))
 }
 
 fn draw_time_histories(
     path: &Path,
     title: &str,
     panels: &[Panel<'_, Envelope>],
-    scale: f64,
-    unit: &str,
+    common_y: bool,
 ) -> Result<(), DrawError> {
-    let (root, areas) = stacked(path, title, panels.len())?;
-    let ymax = panels.iter().map(|p| p.data.extent()).fold(0.0, f64::max) * scale * 1.05;
-    let ymax = if ymax > 0.0 { ymax } else { 1.0 };
+    let (root, areas) = stacked(path, title, (&[], None), panels.len())?;
+    let scaled = |p: &Panel<'_, Envelope>| {
+        let (lo, hi) = p.data.bounds();
+        (lo * p.y.scale, hi * p.y.scale)
+    };
+    let all = panels.iter().map(scaled).fold((f64::NAN, f64::NAN), |a, b| (a.0.min(b.0), a.1.max(b.1)));
     for (k, (area, p)) in areas.iter().zip(panels).enumerate() {
         let e = p.data;
-        let mut chart = ChartBuilder::on(area)
-            .caption(&p.title, (FONT, 18))
-            .margin(8)
-            .margin_right(30)
-            .x_label_area_size(35)
-            .y_label_area_size(70)
-            .build_cartesian_2d(e.t0..e.t1, -ymax..ymax)?;
-        chart
-            .configure_mesh()
-            .x_desc("time [s]")
-            .y_desc(unit)
-            .label_style((FONT, 14))
-            .axis_desc_style((FONT, 15))
-            .draw()?;
+        let (lo, hi) = if common_y { all } else { scaled(p) };
+        let (y0, y1) = y_span(lo, hi);
+        let x_desc = (k + 1 == panels.len()).then_some("time [s]");
+        let axes = (Axis::linear(e.t0, e.t1, 9), Axis::linear(y0, y1, 9));
+        let mut chart = panel_chart(area, &p.title, axes, (x_desc, &p.y.label))?;
         let color = COLORS[k % COLORS.len()];
         // One vertical segment per bin from min to max, joined: the envelope.
         let mut pts = Vec::with_capacity(2 * e.bins.len());
@@ -159,143 +301,17 @@ fn draw_time_histories(
                 continue;
             }
             let t = e.time(i);
-            pts.push((t, b.0 * scale));
-            pts.push((t, b.1 * scale));
+            pts.push((t, b.0 * p.y.scale));
+            pts.push((t, b.1 * p.y.scale));
         }
         chart.draw_series(LineSeries::new(pts, color.stroke_width(1)))?;
     }
     root.present()?;
-    Ok(())
-}
-
-/// A marked reference frequency.
-#[derive(Clone, Debug)]
-pub struct Mark {
-    /// Frequency [Hz].
-    pub freq: f64,
-    /// Legend text.
-    pub label: String,
-}
-
-/// Stacked single-sided amplitude spectra up to `f_max`, with vertical marks.
-pub fn spectra(
-    path: &Path,
-    title: &str,
-    panels: &[Panel<'_, crate::spectrum::Spectrum>],
-    f_max: f64,
-    marks: &[Mark],
-    scale: f64,
-    unit: &str,
-) -> Result<(), PlotError> {
-    drawn(path, draw_spectra(path, title, panels, f_max, marks, scale, unit))
-}
-
-fn draw_spectra(
-    path: &Path,
-    title: &str,
-    panels: &[Panel<'_, crate::spectrum::Spectrum>],
-    f_max: f64,
-    marks: &[Mark],
-    scale: f64,
-    unit: &str,
-) -> Result<(), DrawError> {
-    let (root, areas) = stacked(path, title, panels.len())?;
-    let ymax = panels
-        .iter()
-        .flat_map(|p| p.data.freq.iter().zip(&p.data.amp).filter(|(f, _)| **f > 0.5 && **f <= f_max).map(|(_, a)| *a))
-        .fold(0.0, f64::max)
-        * scale
-        * 1.1;
-    let ymax = if ymax > 0.0 { ymax } else { 1.0 };
-    let mark_colors = [RGBColor(120, 120, 120), RGBColor(200, 0, 150), RGBColor(0, 150, 150)];
-    for (k, (area, p)) in areas.iter().zip(panels).enumerate() {
-        let mut chart = ChartBuilder::on(area)
-            .caption(&p.title, (FONT, 18))
-            .margin(8)
-            .margin_right(30)
-            .x_label_area_size(35)
-            .y_label_area_size(70)
-            .build_cartesian_2d(0.0..f_max, 0.0..ymax)?;
-        chart
-            .configure_mesh()
-            .x_desc("frequency [Hz]")
-            .x_label_formatter(&|f| format!("{f:.0}"))
-            .y_desc(unit)
-            .label_style((FONT, 14))
-            .axis_desc_style((FONT, 15))
-            .draw()?;
-        let color = COLORS[k % COLORS.len()];
-        let pts = p.data.freq.iter().zip(&p.data.amp).filter(|(f, _)| **f <= f_max).map(|(f, a)| (*f, a * scale));
-        chart.draw_series(LineSeries::new(pts, color.stroke_width(1)))?;
-        for (j, m) in marks.iter().enumerate() {
-            let c = mark_colors[j % mark_colors.len()];
-            chart
-                .draw_series(LineSeries::new(vec![(m.freq, 0.0), (m.freq, ymax)], c.stroke_width(1)))?
-                .label(format!("{} ({:.1} Hz)", m.label, m.freq))
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
-        }
-        if !marks.is_empty() {
-            chart
-                .configure_series_labels()
-                .label_font((FONT, 13))
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()?;
-        }
-    }
-    root.present()?;
-    Ok(())
-}
-
-/// Plot columns of a CSV (`cosim plot`): time histories of each, and
-/// optionally their spectra up to `f_max` with marks.
-pub fn plot_csv(csv: &Path, vars: &[String], out: &Path, spectrum: Option<(f64, Vec<Mark>)>) -> Result<(), PlotError> {
-    let table = crate::csv::read_csv(csv)?;
-    let data = |m: String| PlotError::Data(m);
-    let time = table.column("time").ok_or_else(|| data(format!("{} has no time column", csv.display())))?.to_vec();
-    if time.len() < 2 {
-        return Err(data(format!("{} has fewer than two rows", csv.display())));
-    }
-    let names: Vec<String> = if vars.is_empty() { table.names[1..].to_vec() } else { vars.to_vec() };
-    let mut envs = Vec::new();
-    let mut specs = Vec::new();
-    for n in &names {
-        let col = table
-            .column(n)
-            .ok_or_else(|| data(format!("{} has no column {n} (it has: {})", csv.display(), table.names.join(", "))))?;
-        let mut e = Envelope::new(time[0], *time.last().expect("two rows"), 1200);
-        for (t, x) in time.iter().zip(col) {
-            e.add(*t, *x);
-        }
-        envs.push(e);
-        if spectrum.is_some() {
-            let dt = (time[time.len() - 1] - time[0]) / (time.len() - 1) as f64;
-            specs.push(crate::spectrum::single_sided(col, 1.0 / dt));
-        }
-    }
-    let panels: Vec<Panel<'_, Envelope>> =
-        names.iter().zip(&envs).map(|(n, e)| Panel { title: n.clone(), data: e }).collect();
-    time_histories(out, &format!("{}", csv.display()), &panels, 1.0, "value")?;
-    if let Some((f_max, marks)) = spectrum {
-        let sp =
-            out.with_file_name(format!("{}_spectrum.png", out.file_stem().and_then(|s| s.to_str()).unwrap_or("plot")));
-        let panels: Vec<Panel<'_, crate::spectrum::Spectrum>> =
-            names.iter().zip(&specs).map(|(n, s)| Panel { title: n.clone(), data: s }).collect();
-        spectra(
-            &sp,
-            &format!("{} — single-sided amplitude spectrum", csv.display()),
-            &panels,
-            f_max,
-            &marks,
-            1.0,
-            "|P1(f)|",
-        )?;
-    }
     Ok(())
 }
 
 #[cfg(test)]
+#[allow(clippy::float_cmp)] // exact values are intended in these tests
 mod tests {
     use super::*;
 
@@ -312,6 +328,18 @@ mod tests {
     }
 
     #[test]
+    fn y_ranges_are_symmetric_across_zero_and_padded_otherwise() {
+        let (lo, hi) = y_span(-3.0, 2.0);
+        approx::assert_abs_diff_eq!(lo, -3.15, epsilon = 1e-12);
+        approx::assert_abs_diff_eq!(hi, 3.15, epsilon = 1e-12);
+        let (lo, hi) = y_span(10.0, 20.0);
+        approx::assert_abs_diff_eq!(lo, 9.5);
+        approx::assert_abs_diff_eq!(hi, 20.5);
+        assert_eq!(y_span(0.0, 0.0), (-1.0, 1.0));
+        assert_eq!(y_span(0.01, 1.0).0, 0.0, "a positive quantity near zero starts at zero");
+    }
+
+    #[test]
     fn plots_are_written_with_the_shipped_font() {
         let dir = tempfile::tempdir().unwrap();
         let mut e = Envelope::new(0.0, 2.0, 300);
@@ -322,19 +350,12 @@ mod tests {
             e.add(i as f64 / fs, *v);
         }
         let p = dir.path().join("t.png");
-        time_histories(&p, "test", &[Panel { title: "x".into(), data: &e }], 1e6, "x [µm]").unwrap();
+        let y = Quantity::new("x", "µm", 1e6);
+        time_histories(&p, "test", &[Panel { title: "x".into(), data: &e, y: y.clone() }], true).unwrap();
         let s = crate::spectrum::single_sided(&x, fs).up_to(400.0);
         let q = dir.path().join("s.png");
-        spectra(
-            &q,
-            "test",
-            &[Panel { title: "x".into(), data: &s }],
-            400.0,
-            &[Mark { freq: 133.3, label: "tooth".into() }],
-            1e6,
-            "µm",
-        )
-        .unwrap();
+        let marks = [Mark { freq: 133.3, label: "tooth".into() }];
+        spectra(&q, "test", &[Panel { title: "x".into(), data: &s, y }], 400.0, &marks, true).unwrap();
         for f in [p, q] {
             let bytes = std::fs::read(&f).unwrap();
             assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{} is not a PNG", f.display());

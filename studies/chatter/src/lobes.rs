@@ -14,7 +14,7 @@ use delay_stability::zero_order::speed_grid;
 use fmi_master::{Override, SystemFile};
 use milling_plant::PlantParams;
 use seed000::lobes_cases::LobesSpec;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 use study_kit::fmu_params::{self, Resolved};
 use study_kit::output::{Series, plot_png, write_csv};
@@ -128,8 +128,49 @@ impl LobesPlanArgs {
     }
 }
 
+/// The figure's title: the machine actually analysed (the system file's name or the plant
+/// preset, with every change to it) and, on a second line, where the controllers' gains come from.
 fn title(a: &LobesArgs) -> String {
-    format!("Stability lobes, {} plant", a.system.as_ref().map_or(a.plant.clone(), |p| p.display().to_string()))
+    let machine = machine_title(&a.plant, a.system.as_deref(), a.modes, &a.set);
+    let gains = match &a.system {
+        Some(p) => format!("controllers: the parameters of {}{}", file_name(p), gains_overrides(&a.gains)),
+        None => gains_title(&a.gains),
+    };
+    format!("Stability lobes: {machine}\n{gains}")
+}
+
+/// A file's name (its path without the folders).
+pub fn file_name(p: &Path) -> String {
+    p.file_name().map_or_else(|| p.display().to_string(), |f| f.to_string_lossy().into_owned())
+}
+
+/// The machine a lobe command analyses: the plant of `system` or the preset `plant`, with
+/// `--modes` and the `--set` overrides.
+pub fn machine_title(plant: &str, system: Option<&Path>, modes: Option<u32>, set: &[String]) -> String {
+    let base = match system {
+        Some(p) => format!("the plant of {}", file_name(p)),
+        None => match plant {
+            "seed" => "seed 000 plant (Tables 1, 4)".to_string(),
+            "ozsoy" => "Ozsoy et al. benchmark plant".to_string(),
+            other => format!("{other} plant"),
+        },
+    };
+    let changes: Vec<String> =
+        modes.map(|m| format!("plant.workpiece.modes={m}")).into_iter().chain(set.iter().cloned()).collect();
+    if changes.is_empty() { base } else { format!("{base} with {}", changes.join(", ")) }
+}
+
+/// Where the gains come from: `--preset` and any `--pid`, `--fopid`, `--adrc`.
+pub fn gains_title(g: &GainArgs) -> String {
+    format!("gains: --preset {}{}", g.preset, gains_overrides(g))
+}
+
+fn gains_overrides(g: &GainArgs) -> String {
+    let join = |v: &Vec<f64>| v.iter().map(f64::to_string).collect::<Vec<_>>().join(",");
+    [("--pid", &g.pid), ("--fopid", &g.fopid), ("--adrc", &g.adrc)]
+        .iter()
+        .filter_map(|(flag, v)| v.as_ref().map(|v| format!(", {flag} {}", join(v))))
+        .collect()
 }
 
 /// The seed plant's default speed range and grid.
@@ -196,4 +237,43 @@ pub fn lobes(a: &LobesArgs) -> Result<()> {
     plot_png(&png, &title(a), &series, 1200, 800)?;
     println!("wrote {} and {}", csv.display(), png.display());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        lobes: LobesArgs,
+    }
+
+    fn title_of(args: &[&str]) -> String {
+        title(&Cli::parse_from(std::iter::once("lobes").chain(args.iter().copied())).lobes)
+    }
+
+    #[test]
+    fn the_title_names_the_machine_that_was_run() {
+        assert_eq!(title_of(&[]), "Stability lobes: seed 000 plant (Tables 1, 4)\ngains: --preset table2");
+        // a changed plant is no longer "the seed plant": every change is named
+        assert_eq!(
+            title_of(&[
+                "--plant",
+                "ozsoy",
+                "--modes",
+                "3",
+                "--set",
+                "plant.workpiece.mass=32",
+                "--pid",
+                "2300,0.012,180"
+            ]),
+            "Stability lobes: Ozsoy et al. benchmark plant with plant.workpiece.modes=3, plant.workpiece.mass=32\n\
+             gains: --preset table2, --pid 2300,0.012,180"
+        );
+        // a system by its file name (not its folders), its controller parameters with it
+        let t = title_of(&["--system", "/home/someone/machines/mill 7.ssp", "--preset", "tuned"]);
+        assert_eq!(t, "Stability lobes: the plant of mill 7.ssp\ncontrollers: the parameters of mill 7.ssp");
+    }
 }

@@ -7,6 +7,7 @@
 //! ```
 
 use crate::common::plant_by_name;
+use crate::lobes::{file_name, machine_title};
 use anyhow::{Context, Result, bail, ensure};
 use clap::Args;
 use delay_stability::BisectionOptions;
@@ -123,7 +124,7 @@ fn validate(a: &SdLobesArgs, plant: &milling_plant::PlantParams, o: &BisectionOp
 }
 
 pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
-    let (model, range, label) = match (&a.preset, &a.design) {
+    let (model, range, (label, machine)) = match (&a.preset, &a.design) {
         (_, Some(path)) => {
             if !a.set.is_empty() || a.system.is_some() {
                 bail!("--design runs seed 002's spindle; --set and --system apply to the seed 000 plant");
@@ -137,16 +138,22 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
             )
             .map_err(|e| anyhow::anyhow!("{e}"))?;
             let range = if (a.x_f - 1.0).abs() < 1e-12 { (36_000.0, 38_000.0) } else { (34_000.0, 36_000.0) };
-            (model, range, format!("design {} (n_c = {}, x_F = {})", path.display(), c.ac.nrows(), a.x_f))
+            let n_c = c.ac.nrows();
+            let machine = format!("seed 002 spindle, design {} (n_c = {n_c}, x_F = {})", file_name(path), a.x_f);
+            (model, range, (format!("design {} (n_c = {n_c}, x_F = {})", path.display(), a.x_f), machine))
         }
         (Some(name), None) => {
             if !a.set.is_empty() || a.system.is_some() {
                 bail!("--preset {name} describes its own machine; --set and --system apply to the seed 000 plant");
             }
             let p = Preset::by_name(name)?;
-            (p.model()?, p.speed_range(), name.clone())
+            (p.model()?, p.speed_range(), (name.clone(), format!("--preset {name}")))
         }
-        (None, None) => (seed000_model(&seed000_params(a)?)?, (1000.0, 3000.0), format!("{} plant", a.plant)),
+        (None, None) => {
+            // the figure names the machine run: the system or the preset, with every --set
+            let machine = machine_title(&a.plant, a.system.as_deref(), None, &a.set);
+            (seed000_model(&seed000_params(a)?)?, (1000.0, 3000.0), (format!("{} plant", a.plant), machine))
+        }
     };
     let rpm_min = a.rpm_min.unwrap_or(range.0);
     let rpm_max = a.rpm_max.unwrap_or(range.1);
@@ -195,7 +202,10 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
     let curve: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.critical.value.map(|v| (p.rpm, v * 1e3))).collect();
     study_kit::figures::plot_xy(
         &png,
-        &format!("stability lobes (semi-discretisation, m = {m}): {label}"),
+        &format!(
+            "Stability lobes by semi-discretisation: {machine}\n{} speeds {rpm_min}–{rpm_max} rpm, m = {m} intervals per tooth period",
+            speeds.len()
+        ),
         "spindle speed [rpm]",
         "limiting depth a_lim [mm]",
         &[("a_lim".to_string(), curve)],

@@ -2,6 +2,7 @@
 //! equivalent-damping reading of every row).
 
 use crate::common::*;
+use crate::lobes::gains_title;
 use anyhow::Result;
 use chatter_control::{ControllerParams, Structure};
 use clap::Args;
@@ -51,7 +52,8 @@ pub fn tables(a: &TablesArgs) -> Result<()> {
         series.push(Series { name: name.to_string(), points: d });
     }
     write_csv(&a.out.join("table6_lobes.csv"), &series)?;
-    plot_png(&a.out.join("table6_lobes.png"), "Stability lobes, seed plant", &series, 1200, 800)?;
+    let title = format!("Table 6: stability lobes of the seed 000 plant (Tables 1, 4)\n{}", gains_title(&a.gains));
+    plot_png(&a.out.join("table6_lobes.png"), &title, &series, 1200, 800)?;
     // analytic SDOF check of the open loop
     let cut = loop_frf::cutting_of(&plant);
     let m = plant.workpiece.first;
@@ -98,7 +100,8 @@ pub fn tables(a: &TablesArgs) -> Result<()> {
     }
     table8_rows(a, &oz, &mut md)?;
     write_csv(&a.out.join("table8_ozsoy_lobes.csv"), &oz_series)?;
-    plot_png(&a.out.join("table8_ozsoy_lobes.png"), "Ozsoy benchmark plant, uncontrolled", &oz_series, 1200, 800)?;
+    let title = "Table 8: stability lobes of the Ozsoy et al. benchmark plant, uncontrolled";
+    plot_png(&a.out.join("table8_ozsoy_lobes.png"), title, &oz_series, 1200, 800)?;
     // Figure 18: the Table 8 lobes our controllers fill, on the uncontrolled one's 500–3000 rpm grid
     let grid: Vec<f64> = oz_series[0].points.iter().map(|p| p.rpm).collect();
     let mut fig18 = oz_series.clone();
@@ -109,7 +112,7 @@ pub fn tables(a: &TablesArgs) -> Result<()> {
     write_csv(&a.out.join("fig18_ozsoy_lobes.csv"), &fig18)?;
     plot_png(
         &a.out.join("fig18_ozsoy_lobes.png"),
-        &format!("Ozsoy benchmark plant, Table 8 lobes (cf. seed Figure 18; --preset {})", a.gains.preset),
+        &format!("Table 8 lobes of the Ozsoy et al. benchmark plant (cf. seed Figure 18)\n{}", gains_title(&a.gains)),
         &fig18,
         1200,
         800,

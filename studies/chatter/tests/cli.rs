@@ -106,6 +106,8 @@ fn a_short_main_job_writes_its_table_csvs_and_plots() {
     assert!(stdout.contains("tooth passing 133.3 Hz"), "{stdout}");
     let table = std::fs::read_to_string(out.join("table5.md")).unwrap();
     assert!(table.contains("| ADRC-FOPID |"), "{table}");
+    // the system by its file name, not the folders of this machine
+    assert!(table.starts_with("Nominal scenario (ClosedLoop.ssp; 2 seeds"), "{table}");
     for f in ["fig6_time_history.png", "fig7_spectrum.png"] {
         let bytes = std::fs::read(out.join(f)).unwrap();
         assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{f}");

@@ -30,7 +30,7 @@ use crate::scenario::{Roles, roles};
 use crate::tuning::mean_std;
 use chatter_control::Structure;
 use fmi_master::csv::CsvWriter;
-use fmi_master::plot::{Envelope, Mark, Panel};
+use fmi_master::plot::Envelope;
 use fmi_master::spectrum::{Spectrum, single_sided};
 use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
 use model_description::Value;
@@ -41,6 +41,9 @@ use std::time::{Duration, Instant};
 use study_kit::StudyError;
 use study_kit::cases::{self, CaseStudy, Collected, Selection};
 use study_kit::fmu_params;
+
+mod figures;
+use figures::{figures, system_label};
 
 /// One row of the seed's Table 5: label, RMS mean and std [µm], reduction mean and std [%].
 pub type SeedRow = (&'static str, f64, f64, Option<(f64, f64)>);
@@ -436,7 +439,6 @@ fn write_outputs(
     runs: &[RunResult],
     (tooth, natural, dist): RefFreqs,
 ) -> Result<Collected> {
-    let first_seed = spec.seeds[0];
     let mut written = Vec::new();
     // Per-run summary.
     let summary = out.join("runs_summary.csv");
@@ -458,7 +460,7 @@ fn write_outputs(
     let mut lines = Vec::new();
     lines.push(format!(
         "Nominal scenario ({}; {} seeds: {}–{}), RMS tip displacement over the run, mean ± sample std:",
-        sys.origin,
+        system_label(spec, sys),
         spec.seeds.len(),
         spec.seeds[0],
         spec.seeds[spec.seeds.len() - 1]
@@ -514,40 +516,9 @@ fn write_outputs(
         })
         .collect();
     if !firsts.is_empty() {
-        let fig6 = out.join("fig6_time_history.png");
-        let panels: Vec<Panel<'_, Envelope>> =
-            firsts.iter().map(|(l, (e, _))| Panel { title: format!("{l} (seed {first_seed})"), data: e }).collect();
-        fmi_master::plot::time_histories(
-            &fig6,
-            &format!("Tip displacement {} (cf. seed Figure 6)", roles.measured()),
-            &panels,
-            1e6,
-            "x [µm]",
-        )?;
-        written.push(fig6);
-        let fig7 = out.join("fig7_spectrum.png");
-        let mut marks = Vec::new();
-        if let Some(f) = dist {
-            marks.push(Mark { freq: f, label: "disturbance".into() });
-        }
-        if let Some(f) = tooth {
-            marks.push(Mark { freq: f, label: "tooth passing Z·N/60".into() });
-        }
-        if let Some(f) = natural {
-            marks.push(Mark { freq: f, label: "1st natural frequency".into() });
-        }
-        let panels: Vec<Panel<'_, Spectrum>> =
-            firsts.iter().map(|(l, (_, s))| Panel { title: format!("{l} (seed {first_seed})"), data: s }).collect();
-        fmi_master::plot::spectra(
-            &fig7,
-            "Single-sided amplitude spectrum |P1(f)| of the tip displacement (cf. seed Figure 7)",
-            &panels,
-            400.0,
-            &marks,
-            1e6,
-            "|P1| [µm]",
-        )?;
-        written.push(fig7);
+        let (fig6, fig7) = (out.join("fig6_time_history.png"), out.join("fig7_spectrum.png"));
+        figures(spec, sys, roles, (&fig6, &fig7), &firsts, (tooth, natural, dist))?;
+        written.extend([fig6, fig7]);
     }
     written.push(out.join("runs"));
     Ok(Collected { text: table_text, written })

@@ -1,18 +1,29 @@
 //! The studies' figures: line plots over a numeric or categorical axis, and heat maps on a
-//! common colour scale (plotters' bitmap backend, the font `fmi_master::plot` registers).
+//! common colour scale (`fmi_master::plot`'s canvas, font and axes: round ticks with the
+//! decimals they need). A title may hold a second line (what was run) after a `\n`; legends
+//! and panels name the controllers as the papers do ([`display_name`]).
 
-use fmi_master::plot::{DrawError, FONT, PlotError, drawn, register_font};
+use fmi_master::plot::{Axis, DrawError, FONT, LegendEntry, PALETTE, PlotError, canvas, drawn, legend_row, titled};
 use plotters::prelude::*;
 use std::path::Path;
+
+/// A series or panel name as a figure shows it: the controller structures' item names as the
+/// papers write them (`off` → open loop, `adrc_fopid` → ADRC-FOPID), anything else unchanged.
+pub fn display_name(name: &str) -> String {
+    match name {
+        "off" => "open loop".into(),
+        "pid" => "PID".into(),
+        "fopid" => "FOPID".into(),
+        "adrc_fopid" => "ADRC-FOPID".into(),
+        _ => name.into(),
+    }
+}
 
 /// A named curve.
 pub type Curve = (String, Vec<(f64, f64)>);
 
-const COLORS: [RGBColor; 6] = [BLACK, BLUE, RED, GREEN, MAGENTA, CYAN];
-
 /// Curves `y(x)` on common axes (markers at the points).
 pub fn plot_xy(path: &Path, title: &str, xlabel: &str, ylabel: &str, curves: &[Curve]) -> Result<(), PlotError> {
-    register_font();
     drawn(path, draw_xy(path, title, xlabel, ylabel, curves, None))
 }
 
@@ -28,7 +39,6 @@ pub fn plot_points(
         .iter()
         .map(|(n, v)| (n.clone(), v.iter().enumerate().map(|(i, y)| ((i + 1) as f64, *y)).collect()))
         .collect();
-    register_font();
     drawn(path, draw_xy(path, title, "sample point (numbered as in the table)", ylabel, &curves, Some(labels.len())))
 }
 
@@ -46,38 +56,38 @@ fn draw_xy(
     if !(x0.is_finite() && x1 >= x0 && y1 > 0.0) {
         return Err("nothing finite to plot".into());
     }
-    let pad = ((x1 - x0) * 0.03).max(0.5);
-    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 22))
+    // categories 1…n sit half a step inside the frame; numbers 3 % of their span
+    let pad = match categories {
+        Some(_) => 0.5,
+        None if x1 > x0 => (x1 - x0) * 0.03,
+        None => (x0.abs() * 0.05).max(1e-9),
+    };
+    let x_axis = match categories {
+        Some(n) => Axis::linear(x0 - pad, x1 + pad, n + 2),
+        None => Axis::linear(x0 - pad, x1 + pad, 11),
+    };
+    let root = canvas(path, (1000, 600 + 22 * title.lines().count().saturating_sub(1) as u32))?;
+    let below = titled(&root, title, 22)?;
+    // one curve: the axis says what it is; more: one legend row under the title, off the data
+    let colour = |i: usize| PALETTE[i % PALETTE.len()];
+    let legend: Vec<LegendEntry> = curves.iter().enumerate().map(|(i, c)| (display_name(&c.0), colour(i))).collect();
+    let (key, area) = below.split_vertically(if curves.len() > 1 { 30 } else { 0 });
+    if curves.len() > 1 {
+        legend_row(&key, &legend, None)?;
+    }
+    let mut chart = ChartBuilder::on(&area)
         .margin(15)
+        .margin_top(8)
         .x_label_area_size(45)
         .y_label_area_size(60)
-        .build_cartesian_2d(x0 - pad..x1 + pad, 0.0..y1 * 1.08)?;
-    let mut mesh = chart.configure_mesh();
-    mesh.x_desc(xlabel).y_desc(ylabel).label_style((FONT, 15));
-    let integer = |v: &f64| format!("{v:.0}");
-    if let Some(n) = categories {
-        mesh.x_labels(n + 2).x_label_formatter(&integer);
-    }
-    mesh.draw()?;
-    for (i, (name, p)) in curves.iter().enumerate() {
-        let c = COLORS[i % COLORS.len()];
+        .build_cartesian_2d(x_axis, Axis::linear_rounded(0.0, y1 * 1.03, 9))?;
+    chart.configure_mesh().x_desc(xlabel).y_desc(ylabel).label_style((FONT, 15)).axis_desc_style((FONT, 16)).draw()?;
+    for (i, (_, p)) in curves.iter().enumerate() {
+        let c = colour(i);
         let p: Vec<(f64, f64)> = p.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite()).collect();
-        chart
-            .draw_series(LineSeries::new(p.clone(), c.stroke_width(2)))?
-            .label(name.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+        chart.draw_series(LineSeries::new(p.clone(), c.stroke_width(2)))?;
         chart.draw_series(p.into_iter().map(|q| Circle::new(q, 4, c.filled())))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .label_font((FONT, 15))
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()?;
     root.present()?;
     Ok(())
 }
@@ -115,7 +125,6 @@ pub fn heat_maps(
     vmax: f64,
     unit: &str,
 ) -> Result<(), PlotError> {
-    register_font();
     drawn(path, draw_heat(path, title, (xlabel, x), (ylabel, y), panels, vmax, unit))
 }
 
@@ -132,18 +141,28 @@ fn draw_heat(
         return Err("a heat map needs at least 2 × 2 cells and a positive colour scale".into());
     }
     let (dx, dy) = ((x[1] - x[0]) / 2.0, (y[1] - y[0]) / 2.0);
-    let root = BitMapBackend::new(path, (560 * panels.len() as u32 + 140, 560)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let root = root.titled(title, (FONT, 22))?;
-    let (maps, bar) = root.split_horizontally(560 * panels.len() as u32);
+    let root =
+        canvas(path, (560 * panels.len() as u32 + 150, 560 + 22 * title.lines().count().saturating_sub(1) as u32))?;
+    let below = titled(&root, title, 22)?;
+    let (maps, bar) = below.split_horizontally(560 * panels.len() as u32);
     for (area, p) in maps.split_evenly((1, panels.len())).iter().zip(panels) {
         let mut chart = ChartBuilder::on(area)
-            .caption(&p.title, (FONT, 18))
+            .caption(display_name(&p.title), (FONT, 18))
             .margin(10)
-            .x_label_area_size(40)
-            .y_label_area_size(50)
-            .build_cartesian_2d(x[0] - dx..x[x.len() - 1] + dx, y[0] - dy..y[y.len() - 1] + dy)?;
-        chart.configure_mesh().disable_mesh().x_desc(xlabel).y_desc(ylabel).label_style((FONT, 14)).draw()?;
+            .x_label_area_size(45)
+            .y_label_area_size(55)
+            .build_cartesian_2d(
+                Axis::linear(x[0] - dx, x[x.len() - 1] + dx, 6),
+                Axis::linear(y[0] - dy, y[y.len() - 1] + dy, 8),
+            )?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(xlabel)
+            .y_desc(ylabel)
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 15))
+            .draw()?;
         chart.draw_series(p.values.iter().enumerate().flat_map(|(i, row)| {
             row.iter().enumerate().map(move |(j, v)| {
                 let c = if v.is_finite() { colour(v / vmax) } else { RGBColor(128, 128, 128) };
@@ -151,12 +170,20 @@ fn draw_heat(
             })
         }))?;
     }
+    // the colour bar, its axis named with the unit
     let mut cb = ChartBuilder::on(&bar)
         .margin(20)
-        .y_label_area_size(60)
-        .caption(unit, (FONT, 14))
-        .build_cartesian_2d(0.0..1.0, 0.0..vmax)?;
-    cb.configure_mesh().disable_mesh().disable_x_axis().label_style((FONT, 14)).draw()?;
+        .margin_top(48)
+        .margin_bottom(55)
+        .y_label_area_size(80)
+        .build_cartesian_2d(0.0..1.0, Axis::linear(0.0, vmax, 9))?;
+    cb.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(unit)
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 15))
+        .draw()?;
     let n = 100;
     cb.draw_series((0..n).map(|k| {
         let (a, b) = (vmax * k as f64 / n as f64, vmax * (k + 1) as f64 / n as f64);

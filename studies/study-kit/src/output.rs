@@ -1,10 +1,12 @@
 //! CSV and PNG output of stability lobe diagrams.
 //!
-//! The PNG is drawn with plotters' bitmap backend and the font `fmi_master::plot` registers
-//! (the CI machine has no system fonts).
+//! The PNG is drawn on `fmi_master::plot`'s canvas (the shipped font, round ticks; the CI
+//! machine has no system fonts): the title (and a second line after a `\n`: what was run),
+//! one legend row under it, the diagrams below.
 
+use crate::figures::display_name;
 use delay_stability::zero_order::CriticalPoint;
-use fmi_master::plot::{DrawError, FONT, PlotError, drawn, register_font};
+use fmi_master::plot::{Axis, DrawError, FONT, LegendEntry, PALETTE, PlotError, canvas, drawn, legend_row, titled};
 use plotters::prelude::*;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -54,7 +56,6 @@ pub fn write_csv(path: &Path, series: &[Series]) -> Result<(), crate::StudyError
 /// Plot several diagrams on common axes (depth in mm, linear; logarithmic when the curves span
 /// more than a factor 20), PNG `width × height`.
 pub fn plot_png(path: &Path, title: &str, series: &[Series], width: u32, height: u32) -> Result<(), PlotError> {
-    register_font();
     drawn(path, draw(path, title, series, width, height))
 }
 
@@ -67,52 +68,35 @@ fn draw(path: &Path, title: &str, series: &[Series], width: u32, height: u32) ->
     if !(x0.is_finite() && x1 > x0 && ymax > 0.0) {
         return Err("nothing finite to plot".into());
     }
-    // curves spanning more than a factor 20 are drawn on a logarithmic depth axis (log10 values
-    // on a linear axis, labels converted back)
+    // curves spanning more than a factor 20 are drawn on a logarithmic depth axis
     let log = ymax / ymin > 20.0;
-    let ty = |d_mm: f64| if log { d_mm.log10() } else { d_mm };
-    let (y0, y1) = if log { (ymin.log10() - 0.05, ymax.log10() + 0.05) } else { (0.0, ymax * 1.05) };
-    let root = BitMapBackend::new(path, (width, height)).into_drawing_area();
-    root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 24))
+    let y_axis =
+        if log { Axis::log_rounded(ymin / 1.05, ymax * 1.05, 12) } else { Axis::linear_rounded(0.0, ymax * 1.02, 10) };
+    let root = canvas(path, (width, height + 22 * title.lines().count().saturating_sub(1) as u32))?;
+    let below = titled(&root, title, 22)?;
+    let colour = |i: usize| PALETTE[i % PALETTE.len()];
+    let legend: Vec<LegendEntry> = series.iter().enumerate().map(|(i, s)| (display_name(&s.name), colour(i))).collect();
+    let (key, area) = below.split_vertically(30);
+    legend_row(&key, &legend, None)?;
+    let mut chart = ChartBuilder::on(&area)
         .margin(15)
+        .margin_top(8)
+        .margin_right(25)
         .x_label_area_size(45)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
+        .y_label_area_size(65)
+        .build_cartesian_2d(Axis::linear(x0, x1, 11), y_axis)?;
     chart
         .configure_mesh()
         .x_desc("spindle speed [rpm]")
         .y_desc(if log { "critical axial depth [mm] (log scale)" } else { "critical axial depth [mm]" })
-        .y_label_formatter(&|v| {
-            let d = if log { 10f64.powf(*v) } else { *v };
-            if d >= 10.0 {
-                format!("{d:.0}")
-            } else if d >= 1.0 {
-                format!("{d:.1}")
-            } else {
-                format!("{d:.2}")
-            }
-        })
         .label_style((FONT, 16))
+        .axis_desc_style((FONT, 16))
         .draw()?;
-    let colors = [BLACK, BLUE, RED, GREEN, MAGENTA, CYAN, RGBColor(255, 140, 0), RGBColor(128, 0, 128)];
     for (i, s) in series.iter().enumerate() {
-        let c = colors[i % colors.len()];
         let pts: Vec<(f64, f64)> =
-            s.points.iter().filter(|p| p.depth.is_finite()).map(|p| (p.rpm, ty(p.depth * 1e3))).collect();
-        chart
-            .draw_series(LineSeries::new(pts, c.stroke_width(2)))?
-            .label(s.name.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2)));
+            s.points.iter().filter(|p| p.depth.is_finite()).map(|p| (p.rpm, p.depth * 1e3)).collect();
+        chart.draw_series(LineSeries::new(pts, colour(i).stroke_width(2)))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .label_font((FONT, 16))
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()?;
     root.present()?;
     Ok(())
 }

@@ -4,7 +4,7 @@
 //! cosim run [SYSTEM] [--set c.v=x]... [--stop-time T] [--step H] [--order gauss-seidel|jacobi]
 //!           [--record c.v,...] [--output-interval DT] [-o results.csv] [--fmu-dir DIR] [--preload LIB]
 //! cosim info FILE            # an .fmu's variables, or an .ssp/.ssd's structure
-//! cosim plot CSV [--var v]... [-o plot.png] [--spectrum 400] [--mark 133.3=tooth-passing]...
+//! cosim plot CSV [--system SYSTEM] [--var v]... [-o plot.png] [--spectrum 400] [--mark 133.3=tooth-passing]...
 //! cosim ssd SYSTEM           # print a system's SystemStructure.ssd (as this master reads it)
 //! ```
 //! SYSTEM is an `.ssp`, an `.ssd` or a single `.fmu`; an `.ssd`'s component
@@ -116,12 +116,21 @@ struct PlotArgs {
     /// Output PNG (the spectrum goes next to it as <stem>_spectrum.png).
     #[arg(short, long, default_value = "plot.png")]
     output: PathBuf,
-    /// Also plot single-sided amplitude spectra up to this frequency [Hz].
+    /// Also plot single-sided amplitude spectra of the frequencies up to this one [Hz]; the range
+    /// drawn is chosen within it from the marks and where the spectra have energy (the 0 Hz bin,
+    /// the mean, is not drawn).
     #[arg(long)]
     spectrum: Option<f64>,
     /// Reference frequencies to mark: FREQ=LABEL (repeatable).
     #[arg(long = "mark")]
     marks: Vec<String>,
+    /// The system (.ssp, .ssd, .fmu) the CSV is a run of: the axes take each variable's unit and
+    /// the panels its description from the model descriptions of its FMUs.
+    #[arg(long)]
+    system: Option<PathBuf>,
+    /// Directory of the FMUs an .ssd names as `resources/X.fmu` (default: $FMU_DIR).
+    #[arg(long)]
+    fmu_dir: Option<PathBuf>,
 }
 
 fn preload(c: &Common) -> Result<()> {
@@ -273,7 +282,8 @@ fn plot(a: PlotArgs) -> Result<()> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    fmi_master::plot::plot_csv(&a.csv, &a.vars, &a.output, a.spectrum.map(|f| (f, marks)))?;
+    let sys = a.system.as_ref().map(|s| open_system(s, a.fmu_dir.as_ref())).transpose()?;
+    fmi_master::plot::plot_csv(&a.csv, &a.vars, &a.output, a.spectrum.map(|f| (f, marks)), sys.as_ref())?;
     eprintln!("wrote {}", a.output.display());
     Ok(())
 }
