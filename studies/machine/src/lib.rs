@@ -21,6 +21,7 @@ pub mod fmus;
 pub mod lobes;
 pub mod machine;
 pub mod models;
+mod parse;
 pub mod read;
 pub mod tune;
 pub mod units;

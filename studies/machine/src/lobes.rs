@@ -17,7 +17,7 @@
 
 use crate::machine::Machine;
 use crate::models::ModelError;
-use delay_stability::frequency::{CriticalPoint, MultiFrequency, Receptance, ZeroOrder2d};
+use delay_stability::frequency::{CriticalPoint, Lobes, MultiFrequency, Receptance, ZeroOrder2d};
 use delay_stability::{Bifurcation, BisectionOptions, LobePoint};
 use std::fmt::Write as _;
 
@@ -58,27 +58,35 @@ pub fn band(m: &Machine) -> (f64, f64) {
     (1.0, 3.0 * m.highest_mode_hz())
 }
 
-/// Frequency-domain lobes of `frf` (the machine's own or a closed loop's) by `method`.
+/// The frequency-domain solver of `method` for `frf` (the machine's own receptance or a closed
+/// loop's) over speeds down to `rpm_min`.
+pub fn solver<'a, R: Receptance>(
+    m: &Machine,
+    method: Method,
+    frf: &'a R,
+    rpm_min: f64,
+) -> Result<Box<dyn Lobes + 'a>, ModelError> {
+    let cutter = m.cutter()?;
+    let err = |e: delay_stability::zero_order::LobeError| ModelError::Unsupported(e.to_string());
+    let g = move |w: f64| frf.receptance(w);
+    Ok(match method {
+        Method::ZeroOrder => Box::new(ZeroOrder2d::new(g, &cutter, band(m), rpm_min).map_err(err)?),
+        Method::MultiFrequency => Box::new(MultiFrequency::new(g, &cutter, band(m), rpm_min).map_err(err)?),
+        Method::SemiDiscretisation => {
+            return Err(ModelError::Unsupported("semi-discretisation is not a frequency-domain method".into()));
+        }
+    })
+}
+
+/// Frequency-domain lobes of `frf` by `method` at `speeds`.
 pub fn frequency_diagram<R: Receptance>(
     m: &Machine,
     method: Method,
     frf: &R,
     speeds: &[f64],
 ) -> Result<Vec<CriticalPoint>, ModelError> {
-    let cutter = m.cutter()?;
     let rpm_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
-    let err = |e: delay_stability::zero_order::LobeError| ModelError::Unsupported(e.to_string());
-    Ok(match method {
-        Method::ZeroOrder => {
-            ZeroOrder2d::new(|w: f64| frf.receptance(w), &cutter, band(m), rpm_min).map_err(err)?.diagram(speeds)
-        }
-        Method::MultiFrequency => {
-            MultiFrequency::new(|w: f64| frf.receptance(w), &cutter, band(m), rpm_min).map_err(err)?.diagram(speeds)
-        }
-        Method::SemiDiscretisation => {
-            return Err(ModelError::Unsupported("semi-discretisation is not a frequency-domain method".into()));
-        }
-    })
+    Ok(solver(m, method, frf, rpm_min)?.diagram(speeds))
 }
 
 /// The smallest critical depth of `frf` over `speeds` by `method`, refined by golden-section
@@ -89,20 +97,9 @@ pub fn min_depth<R: Receptance>(
     frf: &R,
     speeds: &[f64],
 ) -> Result<CriticalPoint, ModelError> {
-    let cutter = m.cutter()?;
     let rpm_min = speeds.iter().copied().fold(f64::INFINITY, f64::min);
-    let err = |e: delay_stability::zero_order::LobeError| ModelError::Unsupported(e.to_string());
-    let none = || ModelError::Unsupported("empty speed set".into());
-    Ok(match method {
-        Method::ZeroOrder => {
-            let p = ZeroOrder2d::new(|w: f64| frf.receptance(w), &cutter, band(m), rpm_min).map_err(err)?;
-            p.extremes(&p.diagram(speeds)).ok_or_else(none)?.min
-        }
-        _ => {
-            let p = MultiFrequency::new(|w: f64| frf.receptance(w), &cutter, band(m), rpm_min).map_err(err)?;
-            p.extremes(&p.diagram(speeds)).ok_or_else(none)?.min
-        }
-    })
+    let s = solver(m, method, frf, rpm_min)?;
+    s.extremes(&s.diagram(speeds)).map(|e| e.min).ok_or_else(|| ModelError::Unsupported("empty speed set".into()))
 }
 
 /// The machine's open-loop lobes by every method.
