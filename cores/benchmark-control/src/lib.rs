@@ -9,9 +9,15 @@
 //!   and a frequency sweep.
 //! * [`synthesis`]: the two-Riccati H∞ synthesis (Doyle–Glover–Khargonekar–Francis) with
 //!   γ-iteration: the central full-order controller.
+//! * [`plant`]: the design model (mode + inertial actuator, normalised), the weights, the
+//!   generalised plants of the H∞ and μ designs.
+//! * [`designs`]: DVF, VPA, LQR with a Kalman observer, H∞ mixed sensitivity; [`mu_design`]:
+//!   μ-synthesis by D–K iteration.
 //!
 //! The crate is a core: plain types, `thiserror` errors, no FMI.
 
+pub mod designs;
+pub mod mu_design;
 pub mod norm;
 pub mod plant;
 pub mod riccati;

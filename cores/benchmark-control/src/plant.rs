@@ -170,6 +170,10 @@ pub struct MixedSensitivity {
     pub wt: Weight,
     /// Sensor-noise level ε of `y = x̃ + ε n` (regularises `D₂₁`).
     pub noise: f64,
+    /// Command weight ε_u added to the `T` output, `z₂ = W_T F_a + ε_u u`: without it the
+    /// inertial actuator's double zero at s = 0 is a zero of `u → z` on the imaginary axis and
+    /// the problem is singular.
+    pub control: f64,
 }
 
 /// The channels of a generalised plant built by [`generalized`].
@@ -189,7 +193,7 @@ pub struct Uncertainty {
     pub cutting: f64,
 }
 
-/// The generalised plant of the mixed-sensitivity problem (`w = [d, n]`, `z = [W_S x̃, W_T F_a]`,
+/// The generalised plant of the mixed-sensitivity problem (`w = [d, n]`, `z = [W_S x̃, W_T F_a + ε_u u]`,
 /// `y = x̃ + ε n`), with the uncertainty channels of `unc` in front (`w = [w_k, w_c, d, n]`,
 /// `z = [r_k x̃, κ x̃, W_S x̃, W_T F_a]`; the nominal plant then carries the cutting stiffness κ).
 /// States: the model (4), `W_S` (1), `W_T` (1).
@@ -229,7 +233,7 @@ pub fn generalized(
     c1.view_mut((nu + 1, 0), (1, 4)).copy_from(&(&wt.d * &cf));
     c1[(nu + 1, 5)] = wt.c[(0, 0)];
     let mut d12 = Mat::zeros(nu + 2, 1);
-    d12[(nu + 1, 0)] = wt.d[(0, 0)] * df;
+    d12[(nu + 1, 0)] = wt.d[(0, 0)] * df + w.control;
     let mut c2 = Mat::zeros(1, n);
     c2[(0, 0)] = 1.0;
     let mut d21 = Mat::zeros(1, nu + 2);
