@@ -339,6 +339,58 @@ impl LinearController {
         self.gain(omega).map(|row| row.map(|v| v * f))
     }
 
+    /// `K_d(z) = C_c (zI − Φ)⁻¹ Γ + D_c` at `z = e^{iωh}`: what the controller's outputs at
+    /// the communication points do when it is stepped every `h` (continuous form: `Φ`, `Γ` of
+    /// [`LinearController::discretise`], the very matrices the steps use; discrete form stepped
+    /// at `h = T_s`: `A_c`, `B_c`), without the delay factor.
+    pub fn discrete_gain(&self, omega: f64, h: f64) -> Result<[[Complex64; 2]; 2], ControlError> {
+        let p = &self.p;
+        let n = p.order();
+        let z = Complex64::from_polar(1.0, omega * h);
+        let mut k = [[Complex64::new(0.0, 0.0); 2]; 2];
+        for (i, row) in k.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = Complex64::from(p.dc[i][j]);
+            }
+        }
+        if n == 0 {
+            return Ok(k);
+        }
+        let (phi, gamma) = if p.discrete {
+            (DMatrix::from_fn(n, n, |i, j| p.ac[i][j]), DMatrix::from_fn(n, 2, |i, j| p.bc[i][j]))
+        } else {
+            self.discretise(h)?
+        };
+        let m = DMatrix::from_fn(n, n, |i, j| if i == j { z - phi[(i, j)] } else { Complex64::from(-phi[(i, j)]) });
+        let b = gamma.map(Complex64::from);
+        if let Some(x) = m.lu().solve(&b) {
+            for (i, row) in k.iter_mut().enumerate() {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v += (0..n).map(|l| p.cc[i][l] * x[(l, j)]).sum::<Complex64>();
+                }
+            }
+        }
+        Ok(k)
+    }
+
+    /// The response `F/V` of the controller in a loop that a master steps every `h`, with one
+    /// step of communication delay and the zero-order hold of its output:
+    /// `e^{−iωh} K_d(e^{iωh}) (1 − e^{−iωh})/(iωh) · (1 − β e^{−iωτ})` (the convention of
+    /// `chatter_control::Controller::frequency_response`, so that lobes of both controllers
+    /// compare like for like).
+    pub fn sampled_response(&self, omega: f64, h: f64, tau: f64) -> Result<[[Complex64; 2]; 2], ControlError> {
+        let x = omega * h;
+        let hold = if x.abs() < 1e-8 {
+            Complex64::new(1.0, -x / 2.0)
+        } else {
+            (Complex64::new(1.0, 0.0) - Complex64::from_polar(1.0, -x)) / Complex64::new(0.0, x)
+        };
+        let f = Complex64::from_polar(1.0, -x)
+            * hold
+            * (Complex64::new(1.0, 0.0) - self.p.beta * Complex64::from_polar(1.0, -omega * tau));
+        Ok(self.discrete_gain(omega, h)?.map(|row| row.map(|v| v * f)))
+    }
+
     /// The invariants of a restored state (parameters, finite state, ordered history no longer
     /// than needed).
     pub fn validate_state(&self) -> Result<(), String> {

@@ -62,6 +62,24 @@ fn a_sine_through_step_reproduces_the_frequency_response() {
             }
         }
     }
+    // at a coarse step the outputs at the communication points are K_d(e^{iωh}) exactly
+    let c = LinearController::new(&p).unwrap();
+    for freq in [200.0, 800.0] {
+        let h = 2e-5;
+        let kd = c.discrete_gain(2.0 * PI * freq, h).unwrap();
+        for j in 0..2 {
+            let got = measured(&p, freq, h, j);
+            for i in 0..2 {
+                let want = kd[i][j] * (1.0 - p.beta * Complex64::from_polar(1.0, -2.0 * PI * freq * p.delay));
+                assert!((got[i] - want).norm() < 1e-6 * want.norm().max(1.0), "{freq} Hz: {} vs {want}", got[i]);
+            }
+        }
+        // and the sampled response adds the delay and the hold
+        let w = 2.0 * PI * freq;
+        let s = c.sampled_response(w, h, p.delay).unwrap();
+        let f = c.frequency_response(w, p.delay);
+        assert!((s[0][0] - f[0][0]).norm() < 2.0 * w * h * f[0][0].norm());
+    }
     // the discrete form: its own response (z = e^{iωT_s}) is reproduced exactly up to the fit
     let mut d = second_order();
     d.discrete = true;
