@@ -20,7 +20,53 @@
 //! [`crate::fmu_validation`].
 
 use chatter_control::{Controller, ControllerOutput, ControllerParams, Structure};
+use linear_control::{ControlInputs, LinearControlParams, LinearController};
 use milling_plant::{Plant, PlantError, PlantInputs, PlantParams};
+
+/// Either controller core of the project: `ChatterController`'s or `LinearController`'s (a
+/// SISO design on `v_x → F_x`, stepped every [`DEFAULT_STEP`] as the FMU is by the shipped
+/// systems).
+#[derive(Clone, Debug, PartialEq)]
+pub enum AnyController {
+    /// `chatter_control` (PID, FOPID, ADRC-FOPID; `off` is the open loop).
+    Chatter(ControllerParams),
+    /// `linear_control` (the Table 8 benchmark designs).
+    Linear(LinearControlParams),
+}
+
+impl AnyController {
+    /// The command limit \[N\].
+    pub fn limit(&self) -> f64 {
+        match self {
+            AnyController::Chatter(c) => c.u_max,
+            AnyController::Linear(p) => p.saturation[0],
+        }
+    }
+
+    /// The same controller with its command limit `u_max`.
+    pub fn with_limit(&self, u_max: f64) -> AnyController {
+        match self {
+            AnyController::Chatter(c) => AnyController::Chatter(ControllerParams { u_max, ..*c }),
+            AnyController::Linear(p) => {
+                AnyController::Linear(LinearControlParams { saturation: [u_max; 2], ..p.clone() })
+            }
+        }
+    }
+
+    /// The open loop (`off`)?
+    pub fn is_off(&self) -> bool {
+        matches!(self, AnyController::Chatter(c) if c.structure == Structure::Off)
+    }
+}
+
+/// A running controller core.
+#[derive(Clone, Debug)]
+enum Running {
+    Chatter(Controller),
+    /// The core (saturation lifted: the loop clips, so that it knows the unsaturated command),
+    /// its limit and the time of its next step.
+    Linear(Box<LinearController>, f64, f64),
+}
 
 /// Initial tip displacement of every time-domain stability check \[m\].
 pub const RELEASE: f64 = 1e-6;
@@ -74,7 +120,7 @@ pub struct Diverged {
 #[derive(Clone, Debug)]
 pub struct CoreLoop {
     plant: Plant,
-    ctrl: Option<Controller>,
+    ctrl: Option<Running>,
     coupling: Coupling,
     ts: f64,
     inputs: PlantInputs,
@@ -95,8 +141,27 @@ impl CoreLoop {
         rpm: f64,
         feed: f64,
     ) -> Result<CoreLoop, String> {
+        CoreLoop::with(plant, ctrl.map(|c| AnyController::Chatter(*c)).as_ref(), coupling, rpm, feed)
+    }
+
+    /// [`CoreLoop::new`] for either controller core (a `LinearController` is stepped every
+    /// [`DEFAULT_STEP`] with `v_x = x`, its `F_x` the command).
+    pub fn with(
+        plant: &PlantParams,
+        ctrl: Option<&AnyController>,
+        coupling: Coupling,
+        rpm: f64,
+        feed: f64,
+    ) -> Result<CoreLoop, String> {
         let (ctrl, ts) = match ctrl {
-            Some(c) if c.structure != Structure::Off => (Some(Controller::new(c)?), c.ts),
+            Some(AnyController::Chatter(c)) if c.structure != Structure::Off => {
+                (Some(Running::Chatter(Controller::new(c)?)), c.ts)
+            }
+            Some(AnyController::Linear(p)) => {
+                let lifted = LinearControlParams { saturation: [f64::MAX.sqrt(); 2], ..p.clone() };
+                let core = LinearController::new(&lifted).map_err(|e| e.to_string())?;
+                (Some(Running::Linear(Box::new(core), p.saturation[0], 0.0)), DEFAULT_STEP)
+            }
             _ => (None, DEFAULT_STEP),
         };
         Ok(CoreLoop {
@@ -128,7 +193,26 @@ impl CoreLoop {
     /// Sample `k`: read `x_k` and run the controller (the plant has not advanced yet).
     fn next(&mut self) -> Sample {
         let x = self.plant.outputs().x;
-        let out = self.ctrl.as_mut().map_or_else(ControllerOutput::default, |c| c.sample(x, 0.0));
+        let ts = self.ts;
+        let out = match self.ctrl.as_mut() {
+            None => ControllerOutput::default(),
+            Some(Running::Chatter(c)) => c.sample(x, 0.0),
+            Some(Running::Linear(c, limit, t)) => {
+                let inputs = ControlInputs { v: [x, 0.0], spindle_speed: 1.0 };
+                let uc = match c.step(*t, ts, &inputs) {
+                    Ok(()) => c.outputs().force[0],
+                    Err(_) => f64::NAN,
+                };
+                *t += ts;
+                let limit = *limit;
+                ControllerOutput {
+                    u: uc.clamp(-limit, limit),
+                    e: -x,
+                    saturated: !(uc.abs() <= limit),
+                    ..Default::default()
+                }
+            }
+        };
         let applied = match self.coupling {
             Coupling::GaussSeidel => out.u,
             Coupling::Jacobi => self.previous_u,

@@ -64,6 +64,7 @@
 //! | [`decomposed`] | the plant as process + structure + actuator FMUs against the monolithic plant |
 
 pub mod batch;
+pub mod benchmark;
 pub mod closed_loop;
 pub mod decomposed;
 pub mod depth_study;

@@ -12,7 +12,7 @@
 //! This is the exact linear closed-loop response, not the seed's Eq. 32 "effective controller
 //! damping" approximation.
 
-use crate::closed_loop::{CoreLoop, Coupling, quiet_release};
+use crate::closed_loop::{AnyController, CoreLoop, Coupling, DEFAULT_STEP, quiet_release};
 use chatter_control::{Controller, ControllerParams, Structure};
 use delay_stability::zero_order::{Cutting, GridOptions, LobeError, LobeProblem};
 use milling_plant::PlantParams;
@@ -36,17 +36,46 @@ pub fn band_of(plant: &PlantParams) -> (f64, f64) {
 #[derive(Clone, Debug)]
 pub struct LoopFrf {
     plant: PlantParams,
-    controller: Option<Controller>,
+    controller: Option<Response>,
+}
+
+/// The controller response `H_c` of either core.
+#[derive(Clone, Debug)]
+enum Response {
+    Chatter(Controller),
+    /// A `LinearController` stepped every [`DEFAULT_STEP`] (its `sampled_response`).
+    Linear(Box<linear_control::LinearController>),
 }
 
 impl LoopFrf {
     /// Open loop when `ctrl` is `None` or its structure is `off`.
     pub fn new(plant: &PlantParams, ctrl: Option<&ControllerParams>) -> Result<LoopFrf, String> {
+        LoopFrf::with(plant, ctrl.map(|c| AnyController::Chatter(*c)).as_ref())
+    }
+
+    /// [`LoopFrf::new`] for either controller core.
+    pub fn with(plant: &PlantParams, ctrl: Option<&AnyController>) -> Result<LoopFrf, String> {
         let controller = match ctrl {
-            Some(p) if p.structure != Structure::Off => Some(Controller::new(p)?),
+            Some(AnyController::Chatter(p)) if p.structure != Structure::Off => {
+                Some(Response::Chatter(Controller::new(p)?))
+            }
+            Some(AnyController::Linear(p)) => {
+                Some(Response::Linear(Box::new(linear_control::LinearController::new(p).map_err(|e| e.to_string())?)))
+            }
             _ => None,
         };
         Ok(LoopFrf { plant: plant.clone(), controller })
+    }
+
+    /// The controller's `H_c = U/Y` at `omega` (0 for the open loop).
+    pub fn controller_response(&self, omega: f64) -> Complex64 {
+        match &self.controller {
+            None => Complex64::new(0.0, 0.0),
+            Some(Response::Chatter(c)) => c.frequency_response(omega),
+            Some(Response::Linear(c)) => {
+                c.sampled_response(omega, DEFAULT_STEP, 0.0).map_or(Complex64::new(f64::NAN, 0.0), |k| k[0][0])
+            }
+        }
     }
 
     /// `Φ` or `Φ_cl` at `omega` \[rad/s\].
@@ -54,9 +83,9 @@ impl LoopFrf {
         let phi = self.plant.receptance(omega);
         match &self.controller {
             None => phi,
-            Some(c) => {
+            Some(_) => {
                 phi / (Complex64::new(1.0, 0.0)
-                    - phi * self.plant.actuator_response(omega) * c.frequency_response(omega))
+                    - phi * self.plant.actuator_response(omega) * self.controller_response(omega))
             }
         }
     }
@@ -68,7 +97,16 @@ pub fn problem(
     ctrl: Option<&ControllerParams>,
     rpm_min: f64,
 ) -> Result<LobeProblem<impl Fn(f64) -> Complex64 + Sync + use<>>, LobeError> {
-    let frf = LoopFrf::new(plant, ctrl).map_err(LobeError::Invalid)?;
+    problem_with(plant, ctrl.map(|c| AnyController::Chatter(*c)).as_ref(), rpm_min)
+}
+
+/// [`problem`] for either controller core.
+pub fn problem_with(
+    plant: &PlantParams,
+    ctrl: Option<&AnyController>,
+    rpm_min: f64,
+) -> Result<LobeProblem<impl Fn(f64) -> Complex64 + Sync + use<>>, LobeError> {
+    let frf = LoopFrf::with(plant, ctrl).map_err(LobeError::Invalid)?;
     let cutting = cutting_of(plant);
     let (f_lo, f_hi) = band_of(plant);
     LobeProblem::new(move |w| frf.eval(w), cutting, &GridOptions::new(f_lo, f_hi, cutting.teeth, rpm_min))
@@ -176,10 +214,14 @@ pub struct DecayReport {
 /// is called stable when the peak |x| over the last 10 % of the run is below the peak over the
 /// first 10 % (a growing mode slower than the run length can escape this test).
 pub fn closed_loop_decay(plant: &PlantParams, ctrl: &ControllerParams, duration: f64) -> Result<DecayReport, String> {
+    closed_loop_decay_with(plant, &AnyController::Chatter(*ctrl), duration)
+}
+
+/// [`closed_loop_decay`] for either controller core.
+pub fn closed_loop_decay_with(plant: &PlantParams, ctrl: &AnyController, duration: f64) -> Result<DecayReport, String> {
     let mut p = quiet_release(plant);
     p.cutting.enabled = false;
-    let mut lp =
-        CoreLoop::new(&p, Some(&ControllerParams { u_max: 1e9, ..*ctrl }), Coupling::GaussSeidel, 2000.0, 0.0)?;
+    let mut lp = CoreLoop::with(&p, Some(&ctrl.with_limit(1e9)), Coupling::GaussSeidel, 2000.0, 0.0)?;
     let n = lp.samples_in(duration);
     let w = (n / 10).max(1);
     let (mut early, mut late) = (0.0f64, 0.0f64);

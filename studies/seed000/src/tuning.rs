@@ -40,7 +40,7 @@
 //! acceleration units by `b0` exactly as `chatter_control::params` does (`adrc.k = b0·k`); ω_o and
 //! b0 stay at their preset values (the seed tunes only the five FOPID gains).
 
-use crate::closed_loop::{CoreLoop, Coupling};
+use crate::closed_loop::{AnyController, CoreLoop, Coupling};
 use crate::loop_frf;
 use chatter_control::{ControllerParams, Structure};
 use delay_stability::zero_order::speed_grid;
@@ -117,6 +117,11 @@ pub struct SaturationReport {
 impl SaturationCheck {
     /// Run the check for a plant and controller.
     pub fn run(&self, plant: &PlantParams, ctrl: &ControllerParams) -> Result<SaturationReport, String> {
+        self.run_with(plant, &AnyController::Chatter(*ctrl))
+    }
+
+    /// [`SaturationCheck::run`] for either controller core.
+    pub fn run_with(&self, plant: &PlantParams, ctrl: &AnyController) -> Result<SaturationReport, String> {
         let mut p = plant.clone();
         p.cutting.enabled = false;
         p.disturbance.noise = true;
@@ -127,8 +132,8 @@ impl SaturationCheck {
         p.seed = self.seed;
         // with a margin the controller's own limit is lowered: identical trajectory until the first
         // exceedance, which is all the check looks at
-        let c = ControllerParams { u_max: ctrl.u_max * (1.0 - self.margin), ..*ctrl };
-        let mut lp = CoreLoop::new(&p, Some(&c), Coupling::GaussSeidel, 2000.0, 0.0)?;
+        let c = ctrl.with_limit(ctrl.limit() * (1.0 - self.margin));
+        let mut lp = CoreLoop::with(&p, Some(&c), Coupling::GaussSeidel, 2000.0, 0.0)?;
         let n = lp.samples_in(self.duration);
         let mut rep = SaturationReport { exceeded: false, saturated_samples: 0, peak_u: 0.0, rms_x: 0.0 };
         let mut sx2 = 0.0;
@@ -181,6 +186,40 @@ impl SaturationCheck {
         }
         Ok(s)
     }
+
+    /// [`SaturationCheck::over_seeds`] for either controller core on the seed's plant model.
+    pub fn over_seeds_with(
+        &self,
+        plant: &PlantParams,
+        ctrl: &AnyController,
+        seeds: impl IntoIterator<Item = u64>,
+    ) -> Result<SeedSweep, String> {
+        let mut s = SeedSweep { seeds: 0, passed: 0, peak_u: 0.0, worst_saturated: 0 };
+        for seed in seeds {
+            let r = SaturationCheck { seed, ..*self }.run_with(plant, ctrl)?;
+            s.seeds += 1;
+            s.passed += usize::from(!r.exceeded);
+            s.peak_u = s.peak_u.max(r.peak_u);
+            s.worst_saturated = s.worst_saturated.max(r.saturated_samples);
+        }
+        Ok(s)
+    }
+}
+
+/// The penalty of Eq. 31 as graded here (module docs): 0 if the check passed, `α(1 + s)` with
+/// `s` the saturated fraction of `samples` if it failed, `2α` if it could not run or the plant
+/// diverged.
+pub fn penalty(sat: Option<&SaturationReport>, samples: f64) -> f64 {
+    match sat {
+        Some(s) if !s.exceeded => 0.0,
+        Some(s) if s.rms_x.is_finite() => PENALTY_MM * (1.0 + s.saturated_samples as f64 / samples),
+        _ => 2.0 * PENALTY_MM,
+    }
+}
+
+/// The cost `−min(b, cap) + penalty` \[mm\] (module docs).
+pub fn cost_of(b_mm: f64, penalty: f64) -> f64 {
+    -b_mm.min(DEPTH_CAP_MM) + penalty
 }
 
 /// One tunable parameter.
@@ -348,15 +387,9 @@ impl<P: TuningPlant> TuningProblem<P> {
         let b = depth * 1e3;
         let sat = if ctrl.structure == Structure::Off { None } else { self.saturation(ctrl) };
         let n = (self.check.duration / ctrl.ts).round().max(1.0) * self.check_seeds.len().max(1) as f64;
-        let penalty = match sat {
-            Some(s) if !s.exceeded => 0.0,
-            None if ctrl.structure == Structure::Off => 0.0,
-            // graded among infeasible points: α·(1 + fraction of saturated samples)
-            Some(s) if s.rms_x.is_finite() => PENALTY_MM * (1.0 + s.saturated_samples as f64 / n),
-            _ => 2.0 * PENALTY_MM,
-        };
-        let b_capped = b.min(DEPTH_CAP_MM);
-        CostBreakdown { b_min_mm: b, rpm_at_min, saturation: sat, cost: -b_capped + penalty }
+        // graded among infeasible points: α·(1 + fraction of saturated samples)
+        let penalty = if ctrl.structure == Structure::Off { 0.0 } else { penalty(sat.as_ref(), n) };
+        CostBreakdown { b_min_mm: b, rpm_at_min, saturation: sat, cost: cost_of(b, penalty) }
     }
 
     /// The saturation check over [`TuningProblem::check_seeds`] (or `check.seed` alone):
