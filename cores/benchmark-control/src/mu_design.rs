@@ -94,10 +94,16 @@ fn scaled_peak(ns: &[CMat], theta: &[f64]) -> (f64, Vec<f64>) {
     best
 }
 
-/// The frequency grid (normalised time): `points` logarithmic frequencies in 1e-3…1e2 ωₙ.
+/// The frequency grid (normalised time): `points/2` logarithmic frequencies in 1e-3…1e2 ωₙ and
+/// `points/2` in 0.7…1.4 ωₙ (the mode, where the bounds peak sharply), sorted.
 pub fn grid(points: usize) -> Vec<f64> {
-    let (lo, hi) = (1e-3f64, 1e2f64);
-    (0..points).map(|i| lo * (hi / lo).powf(i as f64 / (points.max(2) - 1) as f64)).collect()
+    let log = |lo: f64, hi: f64, n: usize| -> Vec<f64> {
+        (0..n).map(|i| lo * (hi / lo).powf(i as f64 / (n.max(2) - 1) as f64)).collect()
+    };
+    let mut g = log(1e-3, 1e2, points / 2);
+    g.extend(log(0.7, 1.4, points - points / 2));
+    g.sort_by(f64::total_cmp);
+    g
 }
 
 /// The μ problem: the generalised plant with the uncertainty channels and the performance

@@ -129,11 +129,28 @@ pub fn care(a: &Mat, g: &Mat, q: &Mat) -> Result<Mat, DesignError> {
     let mut rhs = Mat::zeros(2 * n, n);
     rhs.view_mut((0, 0), (n, n)).copy_from(&(-(z.view((0, 0), (n, n)) + &id)));
     rhs.view_mut((n, 0), (n, n)).copy_from(&(-z.view((n, 0), (n, n))));
-    let x = m
-        .svd(true, true)
-        .solve(&rhs, 1e-14)
-        .map_err(|e| DesignError::Riccati(format!("sign function: least-squares solve failed ({e})")))?;
-    stabilising(a, g, q, symmetric(&x), "sign function")
+    let mut x = symmetric(
+        &m.svd(true, true)
+            .solve(&rhs, 1e-14)
+            .map_err(|e| DesignError::Riccati(format!("sign function: least-squares solve failed ({e})")))?,
+    );
+    // up to three Newton steps (Kleinman's form, valid for any symmetric G near the solution)
+    // when the sign function's accuracy suffers from conditioning; a step is kept only if it
+    // lowers the residual
+    let mut res = care_residual(a, g, q, &x);
+    for _ in 0..3 {
+        if !(res > 1e-13) {
+            break;
+        }
+        let ak = a - g * &x;
+        let Ok(next) = lyapunov(&ak.transpose(), &(q + &x * g * &x)) else { break };
+        let r = care_residual(a, g, q, &next);
+        if !(r < res) {
+            break;
+        }
+        (x, res) = (next, r);
+    }
+    stabilising(a, g, q, x, "sign function")
 }
 
 /// The stabilising CARE solution from the stable eigenvectors of the Hamiltonian (module docs).
