@@ -4,7 +4,7 @@
 //!
 //! | papers | commands |
 //! |---|---|
-//! | seed 000 (ADRC-FOPID): lobes and tuning | `chatter lobes`, `chatter sd-lobes`, `chatter tune`, `chatter tables`, `chatter check`, `chatter validate` |
+//! | seed 000 (ADRC-FOPID): lobes and tuning | `chatter lobes`, `chatter sd-lobes`, `chatter tune`, `chatter tables`, `chatter table8`, `chatter check`, `chatter validate` |
 //! | seed 000: the FMU studies | `chatter main-job`, `chatter robustness`, `chatter sweep`, `chatter map`, `chatter depth-study`, `chatter decomposed` |
 //! | seed 001 (AFrAC) | `chatter afrac`, `chatter afrac-ga` |
 //! | seed 002 (AMB spindle) | `chatter spindle`, `chatter synth` |
@@ -30,6 +30,7 @@ mod own_machine;
 mod sd_lobes;
 mod spindle;
 mod synth;
+mod table8;
 mod tables;
 mod tune;
 mod validate;
@@ -81,6 +82,8 @@ enum Cmd {
     Synth(synth::SynthArgs),
     /// PSO tuning (N runs per structure); best gains as JSON and CSV, Table A1 statistics.
     Tune(tune::TuneArgs),
+    /// Seed 000 Table 8 complete: DVF, VPA, PID, LQR, H-infinity, mu, FOPID, ADRC-FOPID on the Ozsoy benchmark (calibrated and PSO), Figures 17-18, Table A1.
+    Table8(table8::Table8Args),
     /// Table 6 (seed plant, open and closed loop) and the Table 8 uncontrolled row (Ozsoy plant).
     Tables(tables::TablesArgs),
     /// Time-domain checks of controllers: closed-loop decay and the saturation check over several noise seeds.
@@ -124,6 +127,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Spindle(c) => spindle::spindle(c),
         Cmd::Synth(a) => synth::synth(a),
         Cmd::Tune(a) => tune::tune(a),
+        Cmd::Table8(a) => table8::table8(a),
         Cmd::Tables(a) => tables::tables(a),
         Cmd::Check(a) => check::check(a),
         Cmd::Validate(a) => validate::validate(a),

@@ -65,6 +65,7 @@
 
 pub mod batch;
 pub mod benchmark;
+pub mod benchmark_table;
 pub mod closed_loop;
 pub mod decomposed;
 pub mod depth_study;
