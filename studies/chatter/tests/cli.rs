@@ -41,6 +41,48 @@ fn tables_reproduce_the_uncontrolled_ozsoy_row() {
     std::fs::remove_dir_all(&d).unwrap();
 }
 
+/// `chatter table8 --quick` (≈ 10 s): all nine rows in both modes, the figures, Table A1 and the
+/// benchmark designs as parameter sets that read back through the LinearController's table;
+/// every calibrated row sits at [8]'s b_crit, and the PSO-tuned DVF exceeds [8]'s 3.2 mm (the
+/// finding of the book's Table 8 section).
+#[test]
+fn table8_quick_writes_every_row_figure_and_design() {
+    let d = out_dir("table8");
+    let stdout = run(&["table8", "--quick", "--out", d.to_str().unwrap()]);
+    for f in [
+        "table8.md",
+        "table_a1.md",
+        "fig17_receptance.csv",
+        "fig17_receptance.png",
+        "fig18_lobes_500.csv",
+        "fig18_lobes_500.png",
+        "fig18_lobes_1000.png",
+        "dvf_calibrated.ssv",
+        "mu_pso.ssv",
+    ] {
+        assert!(d.join(f).is_file(), "{f} missing");
+    }
+    let rows: Vec<Vec<String>> = stdout
+        .lines()
+        .filter(|l| l.starts_with("| ") && !l.starts_with("| controller"))
+        .map(|l| l.split('|').map(|c| c.trim().to_string()).collect())
+        .collect();
+    let b = |label: &str, mode: &str| -> f64 {
+        let r = rows.iter().find(|r| r[1] == label && r[2] == mode).unwrap_or_else(|| panic!("{label} {mode}"));
+        r[3].parse().unwrap()
+    };
+    for (label, target) in [("DVF", 3.2), ("PID", 3.2), ("LQR", 3.2), ("H∞", 3.1), ("μ", 3.1)] {
+        assert!((b(label, "calibrated") / target - 1.0).abs() < 5e-3, "{label}: {}", b(label, "calibrated"));
+    }
+    for label in ["DVF", "VPA", "PID", "LQR", "H∞", "μ", "FOPID", "ADRC-FOPID"] {
+        assert!(b(label, "PSO") > 0.0, "{label}");
+    }
+    assert!(b("DVF", "PSO") > 3.2, "PSO-tuned DVF {} mm", b("DVF", "PSO"));
+    let xml = std::fs::read_to_string(d.join("dvf_calibrated.ssv")).unwrap();
+    let params = ssp::parse_ssv(&xml, "dvf_calibrated.ssv", "").unwrap();
+    assert!(params.iter().any(|p| p.name == "n_c") && params.iter().any(|p| p.name == "Dc[1,1]"));
+}
+
 #[test]
 fn lobes_writes_csv_and_png() {
     let d = out_dir("lobes");
