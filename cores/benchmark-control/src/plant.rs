@@ -108,7 +108,7 @@ impl DesignPlant {
             .chain(self.actuator_a.iter().flatten().copied())
             .chain(self.actuator_b)
             .chain(self.actuator_c);
-        if !all.clone().all(f64::is_finite) || !(self.mass > 0.0 && self.stiffness > 0.0 && self.damping_ratio >= 0.0) {
+        if !(all.clone().all(f64::is_finite) && self.mass > 0.0 && self.stiffness > 0.0 && self.damping_ratio >= 0.0) {
             return Err(DesignError::Invalid(format!("design plant: need finite m > 0, k > 0, ζ ≥ 0 (got {self:?})")));
         }
         Ok(())

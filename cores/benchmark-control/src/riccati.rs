@@ -71,11 +71,11 @@ fn stabilising(a: &Mat, g: &Mat, q: &Mat, x: Mat, method: &str) -> Result<Mat, D
         return Err(DesignError::Riccati(format!("{method}: the solution is not finite")));
     }
     let res = care_residual(a, g, q, &x);
-    if !(res <= RESIDUAL_TOL) {
+    if res.is_nan() || res > RESIDUAL_TOL {
         return Err(DesignError::Riccati(format!("{method}: relative residual {res:e} (no solution?)")));
     }
     let s = abscissa(&(a - g * &x));
-    if !(s < 0.0) {
+    if s.is_nan() || s >= 0.0 {
         return Err(DesignError::Riccati(format!("{method}: A − GX is not stable (abscissa {s:e})")));
     }
     Ok(x)
@@ -99,8 +99,7 @@ pub fn care(a: &Mat, g: &Mat, q: &Mat) -> Result<Mat, DesignError> {
         let inv = lu.try_inverse().ok_or_else(|| {
             DesignError::Riccati("sign function: singular iterate (an eigenvalue on the imaginary axis)".into())
         })?;
-        let c =
-            if scale && det.is_finite() && det != 0.0 { (det.abs().ln() / (2 * n) as f64 * -1.0).exp() } else { 1.0 };
+        let c = if scale && det.is_finite() && det != 0.0 { (-det.abs().ln() / (2 * n) as f64).exp() } else { 1.0 };
         let next = (&z * c + inv / c) * 0.5;
         let change = (&next - &z).norm();
         let size = next.norm();
@@ -139,13 +138,13 @@ pub fn care(a: &Mat, g: &Mat, q: &Mat) -> Result<Mat, DesignError> {
     // lowers the residual
     let mut res = care_residual(a, g, q, &x);
     for _ in 0..3 {
-        if !(res > 1e-13) {
+        if res.is_nan() || res <= 1e-13 {
             break;
         }
         let ak = a - g * &x;
         let Ok(next) = lyapunov(&ak.transpose(), &(q + &x * g * &x)) else { break };
         let r = care_residual(a, g, q, &next);
-        if !(r < res) {
+        if r.is_nan() || r >= res {
             break;
         }
         (x, res) = (next, r);
@@ -209,7 +208,7 @@ pub fn care_newton_kleinman(
     hamiltonian(a, g, q)?;
     let mut x = x0.clone();
     let s = abscissa(&(a - g * &x));
-    if !(s < 0.0) {
+    if s.is_nan() || s >= 0.0 {
         return Err(DesignError::Riccati(format!("Newton–Kleinman: X₀ is not stabilising (abscissa {s:e})")));
     }
     for _ in 0..max_iter {

@@ -46,7 +46,7 @@ pub struct Synthesis {
 /// Symmetric inverse square root of a positive definite matrix.
 fn inv_sqrt(m: &Mat) -> Result<Mat, DesignError> {
     let e = m.clone().symmetric_eigen();
-    if e.eigenvalues.iter().any(|&l| !(l > 0.0)) {
+    if e.eigenvalues.iter().any(|&l| l.is_nan() || l <= 0.0) {
         return Err(DesignError::Invalid(
             "D₁₂ must have full column rank and D₂₁ full row rank (regular H∞ problem)".into(),
         ));
@@ -97,7 +97,7 @@ fn central(p: &Generalized, gamma: f64) -> Result<StateSpace, DesignError> {
         return Err(DesignError::Synthesis(format!("γ = {gamma:e}: X∞ or Y∞ is not positive semidefinite")));
     }
     let rho = (&y * &x).complex_eigenvalues().iter().map(|l| l.norm()).fold(0.0, f64::max);
-    if !(rho < gamma * gamma) {
+    if rho.is_nan() || rho >= gamma * gamma {
         return Err(DesignError::Synthesis(format!("γ = {gamma:e}: ρ(X∞Y∞) = {rho:e} ≥ γ²")));
     }
     let n = a.nrows();

@@ -67,6 +67,7 @@ fn a_sine_through_step_reproduces_the_frequency_response() {
     for freq in [200.0, 800.0] {
         let h = 2e-5;
         let kd = c.discrete_gain(2.0 * PI * freq, h).unwrap();
+        #[allow(clippy::needless_range_loop)] // j indexes the input and kd's column alike
         for j in 0..2 {
             let got = measured(&p, freq, h, j);
             for i in 0..2 {

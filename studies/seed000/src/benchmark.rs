@@ -159,9 +159,13 @@ pub fn design(plant: &PlantParams, kind: Benchmark, values: &[f64]) -> Result<De
     Ok(Designed { kind, values: values.to_vec(), params, report: d.report })
 }
 
+/// The calibrated mode's one parameter: its name, the design variables as a function of it, and
+/// the bracket searched.
+pub type Calibration = (&'static str, fn(f64) -> Vec<f64>, (f64, f64));
+
 /// The calibrated mode's one parameter: its name, the design variables as a function of it,
 /// and the bracket searched (module docs).
-pub fn calibration(kind: Benchmark) -> (&'static str, fn(f64) -> Vec<f64>, (f64, f64)) {
+pub fn calibration(kind: Benchmark) -> Calibration {
     match kind {
         Benchmark::Dvf => ("g [N·s/m]", |g| vec![g], (1.0, 3e4)),
         Benchmark::Vpa => (
@@ -269,7 +273,7 @@ pub fn calibrate(
     let b_of = |x: f64| -> Result<f64, String> {
         let d = design(plant, kind, &values(x))?;
         let m = match response {
-            Response::Fmu => min_depth(plant, &AnyController::Linear(d.params), speeds),
+            Response::Fmu => min_depth(plant, &AnyController::Linear(Box::new(d.params)), speeds),
             Response::Analog => analog_min_depth(plant, &d.params, speeds),
         };
         Ok(m.map_or(0.0, |m| m.0))
@@ -366,7 +370,7 @@ impl BenchmarkProblem {
         let bad =
             CostBreakdown { b_min_mm: 0.0, rpm_at_min: f64::NAN, saturation: None, cost: 2.0 * tuning::PENALTY_MM };
         let Ok(d) = design(&self.plant, self.kind, values) else { return (None, bad) };
-        let ctrl = AnyController::Linear(d.params.clone());
+        let ctrl = AnyController::Linear(Box::new(d.params.clone()));
         let Some((depth, rpm)) = min_depth(&self.plant, &ctrl, &self.speeds) else { return (Some(d), bad) };
         let sat = self.saturation(&ctrl);
         let n = (self.check.duration / DEFAULT_STEP).round() * self.check_seeds.len().max(1) as f64;
@@ -410,7 +414,7 @@ mod tests {
         let (g_analog, _) = calibrate(&plant, Benchmark::Dvf, 3.20e-3, &speeds, Response::Analog).unwrap();
         assert!((g_analog / 735.0 - 1.0).abs() < 0.01, "analog g = {g_analog}");
         let (g, d) = calibrate(&plant, Benchmark::Dvf, 3.20e-3, &speeds, Response::Fmu).unwrap();
-        let ctrl = AnyController::Linear(d.params);
+        let ctrl = AnyController::Linear(Box::new(d.params));
         let ex = extremes(&plant, &ctrl, 1000.0, 3000.0, 2001).unwrap();
         let (peak, hz) = peak_receptance(&plant, Some(&ctrl), 4000).unwrap();
         eprintln!(
@@ -438,7 +442,7 @@ mod tests {
             [(Benchmark::Vpa, 2.5e-3), (Benchmark::Lqr, 3.2e-3), (Benchmark::Hinf, 3.1e-3), (Benchmark::Mu, 3.1e-3)]
         {
             let (x, d) = calibrate(&plant, kind, target, &speeds, Response::Fmu).unwrap();
-            let b = min_depth(&plant, &AnyController::Linear(d.params), &speeds).unwrap().0;
+            let b = min_depth(&plant, &AnyController::Linear(Box::new(d.params)), &speeds).unwrap().0;
             eprintln!("{}: {} = {x:.6e}, b_crit {:.5} mm, {:?}", kind.label(), calibration(kind).0, b * 1e3, d.report);
             let tol = if matches!(kind, Benchmark::Hinf | Benchmark::Mu) { 5e-3 } else { 1e-5 };
             assert!((b / target - 1.0).abs() < tol, "{kind:?}: {b}");

@@ -147,7 +147,7 @@ pub fn run(spec: &Table8Spec, out: &Path, progress: &dyn Fn(&str)) -> Result<Str
         rows.push(Row {
             label: kind.label().into(),
             mode: "calibrated",
-            ctrl: Some(AnyController::Linear(d.params.clone())),
+            ctrl: Some(AnyController::Linear(Box::new(d.params.clone()))),
             variables,
             design: Some(d),
         });
@@ -217,7 +217,7 @@ pub fn run(spec: &Table8Spec, out: &Path, progress: &dyn Fn(&str)) -> Result<Str
             rows.push(Row {
                 label: label.into(),
                 mode: "PSO",
-                ctrl: Some(AnyController::Linear(best.best.params.clone())),
+                ctrl: Some(AnyController::Linear(Box::new(best.best.params.clone()))),
                 variables: format!("{variables}; J = {:.4}", best.breakdown.cost),
                 design: Some(best.best.clone()),
             });

@@ -31,7 +31,7 @@ pub enum AnyController {
     /// `chatter_control` (PID, FOPID, ADRC-FOPID; `off` is the open loop).
     Chatter(ControllerParams),
     /// `linear_control` (the Table 8 benchmark designs).
-    Linear(LinearControlParams),
+    Linear(Box<LinearControlParams>),
 }
 
 impl AnyController {
@@ -48,7 +48,7 @@ impl AnyController {
         match self {
             AnyController::Chatter(c) => AnyController::Chatter(ControllerParams { u_max, ..*c }),
             AnyController::Linear(p) => {
-                AnyController::Linear(LinearControlParams { saturation: [u_max; 2], ..p.clone() })
+                AnyController::Linear(Box::new(LinearControlParams { saturation: [u_max; 2], ..(**p).clone() }))
             }
         }
     }
@@ -62,7 +62,7 @@ impl AnyController {
 /// A running controller core.
 #[derive(Clone, Debug)]
 enum Running {
-    Chatter(Controller),
+    Chatter(Box<Controller>),
     /// The core (saturation lifted: the loop clips, so that it knows the unsaturated command),
     /// its limit and the time of its next step.
     Linear(Box<LinearController>, f64, f64),
@@ -155,10 +155,10 @@ impl CoreLoop {
     ) -> Result<CoreLoop, String> {
         let (ctrl, ts) = match ctrl {
             Some(AnyController::Chatter(c)) if c.structure != Structure::Off => {
-                (Some(Running::Chatter(Controller::new(c)?)), c.ts)
+                (Some(Running::Chatter(Box::new(Controller::new(c)?))), c.ts)
             }
             Some(AnyController::Linear(p)) => {
-                let lifted = LinearControlParams { saturation: [f64::MAX.sqrt(); 2], ..p.clone() };
+                let lifted = LinearControlParams { saturation: [f64::MAX.sqrt(); 2], ..(**p).clone() };
                 let core = LinearController::new(&lifted).map_err(|e| e.to_string())?;
                 (Some(Running::Linear(Box::new(core), p.saturation[0], 0.0)), DEFAULT_STEP)
             }
@@ -208,7 +208,7 @@ impl CoreLoop {
                 ControllerOutput {
                     u: uc.clamp(-limit, limit),
                     e: -x,
-                    saturated: !(uc.abs() <= limit),
+                    saturated: uc.is_nan() || uc.abs() > limit,
                     ..Default::default()
                 }
             }

@@ -42,7 +42,7 @@ pub struct LoopFrf {
 /// The controller response `H_c` of either core.
 #[derive(Clone, Debug)]
 enum Response {
-    Chatter(Controller),
+    Chatter(Box<Controller>),
     /// A `LinearController` stepped every [`DEFAULT_STEP`] (its `sampled_response`).
     Linear(Box<linear_control::LinearController>),
 }
@@ -57,7 +57,7 @@ impl LoopFrf {
     pub fn with(plant: &PlantParams, ctrl: Option<&AnyController>) -> Result<LoopFrf, String> {
         let controller = match ctrl {
             Some(AnyController::Chatter(p)) if p.structure != Structure::Off => {
-                Some(Response::Chatter(Controller::new(p)?))
+                Some(Response::Chatter(Box::new(Controller::new(p)?)))
             }
             Some(AnyController::Linear(p)) => {
                 Some(Response::Linear(Box::new(linear_control::LinearController::new(p).map_err(|e| e.to_string())?)))
