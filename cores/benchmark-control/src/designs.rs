@@ -266,6 +266,101 @@ pub fn channel_norm(gp: &crate::ss::Generalized, k: &StateSpace, j: usize) -> Re
     Ok(crate::norm::hinf_norm(&single, 1e-8)?.value)
 }
 
+/// The closed loop of the design model with a physical controller `u = K x` (no cutting):
+/// the continuous state matrix (states: mode `[x, ẋ]` in SI, actuator, controller).
+pub fn loop_matrix(plant: &DesignPlant, k: &StateSpace) -> Mat {
+    let (m, c, kk) = (plant.mass, plant.damping(), plant.stiffness);
+    let nk = k.order();
+    let n = 4 + nk;
+    let mut a = Mat::zeros(n, n);
+    // plant: ẍ = (−k x − c ẋ + F_a)/m, F_a = C_a z + D_a u, ż = A_a z + B_a u, u = C_k ξ + D_k x
+    let dk = k.d[(0, 0)];
+    a[(0, 1)] = 1.0;
+    a[(1, 0)] = (-kk + plant.actuator_d * dk) / m;
+    a[(1, 1)] = -c / m;
+    a[(1, 2)] = plant.actuator_c[0] / m;
+    a[(1, 3)] = plant.actuator_c[1] / m;
+    for i in 0..2 {
+        for j in 0..2 {
+            a[(2 + i, 2 + j)] = plant.actuator_a[i][j];
+        }
+        a[(2 + i, 0)] = plant.actuator_b[i] * dk;
+    }
+    for j in 0..nk {
+        a[(1, 4 + j)] = plant.actuator_d * k.c[(0, j)] / m;
+        for i in 0..2 {
+            a[(2 + i, 4 + j)] = plant.actuator_b[i] * k.c[(0, j)];
+        }
+        a[(4 + j, 0)] = k.b[(j, 0)];
+        for l in 0..nk {
+            a[(4 + j, 4 + l)] = k.a[(j, l)];
+        }
+    }
+    a
+}
+
+/// The spectral radius of the loop of [`loop_matrix`] as a master steps it every `h`
+/// (Gauss–Seidel, controller first): the plant exactly discretised with the command held,
+/// the controller exactly discretised with its input held (the `LinearController` steps),
+/// `u_k = C_d ξ_k + D x_k`.
+pub fn sampled_loop_radius(plant: &DesignPlant, k: &StateSpace, h: f64) -> f64 {
+    let nk = k.order();
+    // open plant (u as an input): states [x, ẋ, z]
+    let zero = StateSpace::gain(0.0);
+    let mut ap = loop_matrix(plant, &zero);
+    ap = ap.view((0, 0), (4, 4)).into_owned();
+    let bp =
+        Mat::from_column_slice(4, 1, &[0.0, plant.actuator_d / plant.mass, plant.actuator_b[0], plant.actuator_b[1]]);
+    let exp_of = |a: &Mat, b: &Mat| -> (Mat, Mat) {
+        let (n, m) = (a.nrows(), b.ncols());
+        let mut big = Mat::zeros(n + m, n + m);
+        big.view_mut((0, 0), (n, n)).copy_from(&(a * h));
+        big.view_mut((0, n), (n, m)).copy_from(&(b * h));
+        let e = big.exp();
+        (e.view((0, 0), (n, n)).into_owned(), e.view((0, n), (n, m)).into_owned())
+    };
+    let (phi_p, gam_p) = exp_of(&ap, &bp);
+    let (phi_c, gam_c) = if nk > 0 { exp_of(&k.a, &k.b) } else { (Mat::zeros(0, 0), Mat::zeros(0, 1)) };
+    let cp = Mat::from_row_slice(1, 4, &[1.0, 0.0, 0.0, 0.0]);
+    let n = 4 + nk;
+    let mut m = Mat::zeros(n, n);
+    m.view_mut((0, 0), (4, 4)).copy_from(&(&phi_p + &gam_p * &k.d * &cp));
+    m.view_mut((0, 4), (4, nk)).copy_from(&(&gam_p * &k.c));
+    m.view_mut((4, 0), (nk, 4)).copy_from(&(&gam_c * &cp));
+    m.view_mut((4, 4), (nk, nk)).copy_from(&phi_c);
+    m.complex_eigenvalues().iter().map(|l| l.norm()).fold(0.0, f64::max)
+}
+
+/// The DVF gain at which the loop with the inertial actuator loses stability (no cutting), by
+/// bisection on log g in `[lo, hi]`: continuous root locus (`h = None`, the spectral abscissa
+/// of [`loop_matrix`]) or the loop stepped every `h` ([`sampled_loop_radius`]).
+pub fn dvf_gain_limit(
+    plant: &DesignPlant,
+    filter_hz: f64,
+    h: Option<f64>,
+    (mut lo, mut hi): (f64, f64),
+) -> Result<f64, DesignError> {
+    let unstable = |g: f64| -> Result<bool, DesignError> {
+        let k = dvf(&Dvf { gain: g, filter_hz })?.controller;
+        Ok(match h {
+            None => crate::riccati::abscissa(&loop_matrix(plant, &k)) >= 0.0,
+            Some(h) => sampled_loop_radius(plant, &k, h) >= 1.0,
+        })
+    };
+    if unstable(lo)? || !unstable(hi)? {
+        return Err(DesignError::Invalid(format!("DVF: [{lo}, {hi}] does not bracket the stability limit")));
+    }
+    while hi / lo - 1.0 > 1e-9 {
+        let mid = (lo * hi).sqrt();
+        if unstable(mid)? {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok((lo * hi).sqrt())
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
@@ -314,6 +409,29 @@ pub(crate) mod tests {
         assert!(c_eq > 0.0, "equivalent damping {c_eq}");
         assert_eq!(d.controller.order(), 4);
         assert!(d.controller.spectral_abscissa() < 0.0 || d.controller.poles().iter().all(|p| p.re < 1e-9));
+    }
+
+    /// The DVF's inertial-actuator limit (reading guide [computed]: 1.377e5 N·s/m at the 8.4 Hz
+    /// suspension mode): the continuous root locus gives it within 2 %, and Routh's condition
+    /// on the low-frequency cubic `ε s³ + s² + 2ζ_aω_a s + ω_a² (ε = g/k)` gives `g < 2ζ_a k/ω_a`
+    /// = 1.381e5 within 1 %; the loop stepped at 10 µs loses stability at 1/(1 + ω_f h/2) of it.
+    #[test]
+    fn dvf_actuator_limit_by_root_locus() {
+        let plant = ozsoy();
+        let g = dvf_gain_limit(&plant, FILTER_HZ, None, (1e3, 1e7)).unwrap();
+        let routh = 15.834 / 2785.6 * plant.stiffness;
+        eprintln!("DVF limit: root locus {g:.5e} N·s/m, Routh {routh:.5e}");
+        assert!((g / 1.377e5 - 1.0).abs() < 0.02, "{g}");
+        assert!((g / routh - 1.0).abs() < 0.01, "{g} vs {routh}");
+        // the oscillation at the limit is the actuator's 8.4 Hz suspension mode
+        let k = dvf(&Dvf { gain: g, filter_hz: FILTER_HZ }).unwrap().controller;
+        let top =
+            loop_matrix(&plant, &k).complex_eigenvalues().iter().copied().max_by(|a, b| a.re.total_cmp(&b.re)).unwrap();
+        assert!((top.im.abs() / (2.0 * PI) - 8.4).abs() < 0.3, "{top}");
+        let gs = dvf_gain_limit(&plant, FILTER_HZ, Some(1e-5), (1e3, 1e7)).unwrap();
+        eprintln!("sampled at 10 µs: {gs:.5e}");
+        let factor = 1.0 + 2.0 * PI * FILTER_HZ * 1e-5 / 2.0;
+        assert!((g / gs / factor - 1.0).abs() < 0.01, "{}", g / gs);
     }
 
     /// The H∞ design: order 6, stable closed loop, its `d`-channel norm between the optimal level
