@@ -275,9 +275,12 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
     let ssp = dir.join("Spindle.ssp");
     ssp::write_ssp_archive(&ssp, SPINDLE_SSD, &in_ssd(SPINDLE_SSD))?;
     written.push(ssp);
+    let ssp = dir.join("Benchmark.ssp");
+    ssp::write_ssp_archive(&ssp, BENCHMARK_SSD, &in_ssd(BENCHMARK_SSD))?;
+    written.push(ssp);
     let designs = dir.join("designs");
     std::fs::create_dir_all(&designs).with_context(|| designs.display().to_string())?;
-    for (name, text) in SPINDLE_DESIGNS {
+    for (name, text) in SPINDLE_DESIGNS.into_iter().chain(BENCHMARK_DESIGNS) {
         let path = designs.join(name);
         std::fs::write(&path, text).with_context(|| path.display().to_string())?;
         written.push(path);

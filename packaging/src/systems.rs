@@ -39,6 +39,30 @@ pub const SPINDLE_DESIGNS: [(&str, &str); 4] = [
     ("table2_nc2.ssv", include_str!("../designs/table2_nc2.ssv")),
     ("table2_nc4.ssv", include_str!("../designs/table2_nc4.ssv")),
 ];
+/// Seed 000's Table 8 benchmark (`packaging/scenarios/Benchmark.ssd`, shipped as
+/// `Benchmark.ssp`): MillingPlant bound to the Ozsoy et al. plant
+/// (`milling_plant::PlantParams::ozsoy_benchmark`) + LinearController (`v_x → F_x`, β = 0)
+/// bound to the calibrated DVF ([`BENCHMARK_DVF_GAIN`]).
+pub const BENCHMARK_SSD: &str = include_str!("../scenarios/Benchmark.ssd");
+
+/// The FMUs of [`BENCHMARK_SSD`].
+pub const BENCHMARK_FMUS: [&str; 2] = ["MillingPlant.fmu", "LinearController.fmu"];
+
+/// The DVF gain \[N·s/m\] that `Benchmark.ssp` binds: b_crit = 3.20 mm ([8]'s value) for the
+/// FMU stepped at 10 µs (`chatter table8`, calibrated mode; `seed000`'s tests check it).
+pub const BENCHMARK_DVF_GAIN: f64 = 630.656;
+
+/// The Table 8 benchmark designs in calibrated mode (`chatter table8` writes them), SSP
+/// parameter sets with the `LinearController` names, written to `<fmu dir>/designs/` to bind to
+/// `controller` in `Benchmark.ssp`.
+pub const BENCHMARK_DESIGNS: [(&str, &str); 5] = [
+    ("benchmark_dvf_calibrated.ssv", include_str!("../designs/benchmark_dvf_calibrated.ssv")),
+    ("benchmark_vpa_calibrated.ssv", include_str!("../designs/benchmark_vpa_calibrated.ssv")),
+    ("benchmark_lqr_calibrated.ssv", include_str!("../designs/benchmark_lqr_calibrated.ssv")),
+    ("benchmark_hinf_calibrated.ssv", include_str!("../designs/benchmark_hinf_calibrated.ssv")),
+    ("benchmark_mu_calibrated.ssv", include_str!("../designs/benchmark_mu_calibrated.ssv")),
+];
+
 /// Seed 003's closed loop (ToolXyPlant + SlidingModeFuzzyController),
 /// `packaging/scenarios/SlidingModeFuzzy.ssd`: the `SystemStructure.ssd` of `SlidingModeFuzzy.ssp`.
 pub const SLIDING_MODE_FUZZY_SSD: &str = include_str!("../scenarios/SlidingModeFuzzy.ssd");
@@ -81,21 +105,46 @@ pub fn table2_ssd() -> Result<String> {
 /// power law (x_F = 1), K_t = 462, K_r = 38.6 N/mm² in SI, full immersion (0, π), 4 teeth,
 /// a_p = 1 mm, 37000 rpm, f_z = 0.2 mm; the controller with `D_c = [[k₁, −k₂], [k₂, k₁]]`,
 /// k₁ = 697.1599, k₂ = −1071.058 N/mm in N/m, β = 1, τ from the speed.
+type Pairs = Vec<(String, model_description::Value)>;
+
+/// The assignments `now` that differ from the start values `base`, as SSP parameters of the FMU
+/// `md`.
+fn changed(md: &ModelDescription, now: Pairs, base: Pairs) -> Result<Vec<ssp::Parameter>> {
+    let mut out = Vec::new();
+    for ((name, value), (_, start)) in now.into_iter().zip(base) {
+        if value == start {
+            continue;
+        }
+        out.push(ssp_parameter(md, name, value)?);
+    }
+    Ok(out)
+}
+
+/// The parameter bindings of [`BENCHMARK_SSD`]: the plant's values that differ from its start
+/// values (`PlantParams::ozsoy_benchmark`) and the calibrated DVF's `LinearController` set.
+pub fn benchmark_bindings() -> Result<Vec<(&'static str, Vec<ssp::Parameter>)>> {
+    let plant = changed(
+        fmu_plant::MillingPlant::description(),
+        fmu_plant::parameter_assignments(&milling_plant::PlantParams::ozsoy_benchmark()),
+        fmu_plant::parameter_assignments(&Default::default()),
+    )?;
+    let dvf = benchmark_control::designs::dvf(&benchmark_control::designs::Dvf {
+        gain: BENCHMARK_DVF_GAIN,
+        filter_hz: benchmark_control::designs::FILTER_HZ,
+    })?;
+    let c = dvf.controller.to_linear_params(27.0)?;
+    let controller = changed(
+        fmu_linear_controller::LinearController::description(),
+        fmu_linear_controller::parameter_assignments(&c),
+        fmu_linear_controller::parameter_assignments(&Default::default()),
+    )?;
+    Ok(vec![("plant", plant), ("controller", controller)])
+}
+
+/// The parameter bindings of [`SPINDLE_SSD`], by component: every value that differs from the
+/// FMU's start value, from seed 002's parameter sets (Table I, §6.1).
 pub fn spindle_bindings() -> Result<Vec<(&'static str, Vec<ssp::Parameter>)>> {
     use milling_process::{ForceLaw, ProcessInputs, ProcessParams};
-    use model_description::Value;
-    type Pairs = Vec<(String, Value)>;
-    // the assignments that differ from the start values, as SSP parameters of the FMU `md`
-    let changed = |md: &ModelDescription, now: Pairs, base: Pairs| -> Result<Vec<ssp::Parameter>> {
-        let mut out = Vec::new();
-        for ((name, value), (_, start)) in now.into_iter().zip(base) {
-            if value == start {
-                continue;
-            }
-            out.push(ssp_parameter(md, name, value)?);
-        }
-        Ok(out)
-    };
     let mut p = ProcessParams {
         explicit_angles: true,
         entry_angle: 0.0,
@@ -159,6 +208,29 @@ mod tests {
     fn start_parameters<M: fmi2_export::table::TableModel>() -> M::Params {
         let values = fmi2_export::Values::from_description(M::description());
         M::table().read_parameters(&values).expect("the start values are valid parameters")
+    }
+
+    /// Benchmark.ssd is canonical, names only shipped FMUs, and binds exactly
+    /// [`super::benchmark_bindings`] (`WRITE_BENCHMARK_SSD=1` rewrites it).
+    #[test]
+    fn the_embedded_benchmark_system_is_canonical_and_binds_the_ozsoy_plant() {
+        let d = SystemDescription::from_xml(super::BENCHMARK_SSD, "Benchmark.ssd", None).unwrap();
+        let mut want = d.clone();
+        for (name, params) in super::benchmark_bindings().unwrap() {
+            want.component_mut(name).unwrap().parameters = params;
+        }
+        if std::env::var_os("WRITE_BENCHMARK_SSD").is_some() {
+            std::fs::write(crate::workspace_root().join("packaging/scenarios/Benchmark.ssd"), want.to_xml().unwrap())
+                .unwrap();
+        }
+        assert_eq!(d, want, "Benchmark.ssd does not bind the Ozsoy plant and the calibrated DVF");
+        assert_eq!(d.to_xml().unwrap(), super::BENCHMARK_SSD, "Benchmark.ssd is not canonical");
+        for c in &d.components {
+            let file = c.source.strip_prefix("resources/").unwrap();
+            assert!(super::BENCHMARK_FMUS.contains(&file), "{file}");
+        }
+        assert_eq!(d.connections.len(), 2);
+        connections_end_on_declared_connectors(&d);
     }
 
     /// Every connection starts at a declared output connector and ends at a declared input.

@@ -243,6 +243,27 @@ pub const DEFAULT_SPINDLE_SPEED: f64 = 2000.0;
 pub const DEFAULT_FEED_PER_TOOTH: f64 = 0.05e-3;
 
 impl PlantParams {
+    /// The Ozsoy et al. benchmark plant of seed 000's Section 5.7 (Table 8): first mode
+    /// 142.1 Hz, ζ = 0.88 %, k = 2.43e7 N/m; 16 mm 4-flute end mill, half-immersion
+    /// down-milling; ±27 N actuator. The seed gives no cutting coefficients and no direction for
+    /// it: the seed's Table 4 coefficients (K_t = 760, K_r = 210 N/mm²) and the flexible
+    /// direction normal to the feed (β = 90°), for which down-milling has the same
+    /// `α₀ = Z/(2π)(1/2 + k_r π/4)` as up-milling along the feed. Actuator as Table 1.
+    pub fn ozsoy_benchmark() -> PlantParams {
+        let mut p = PlantParams::default();
+        let k = 2.43e7;
+        let wn = 2.0 * PI * 142.1;
+        p.workpiece.first = Mode { mass: k / (wn * wn), stiffness: k, damping_ratio: 0.0088 };
+        p.workpiece.modes = 1;
+        p.cutting.teeth = 4;
+        p.cutting.tool_radius = 8e-3;
+        p.cutting.radial_engagement = 8e-3;
+        p.cutting.milling = MillingMode::Down;
+        p.cutting.direction_angle = PI / 2.0;
+        p.actuator.f_max = 27.0;
+        p
+    }
+
     /// The enabled modes as a list (first mode first).
     pub fn mode_list(&self) -> Vec<Mode> {
         let mut v = vec![self.workpiece.first];

@@ -57,8 +57,8 @@ fn table8_quick_writes_every_row_figure_and_design() {
         "fig18_lobes_500.csv",
         "fig18_lobes_500.png",
         "fig18_lobes_1000.png",
-        "dvf_calibrated.ssv",
-        "mu_pso.ssv",
+        "benchmark_dvf_calibrated.ssv",
+        "benchmark_mu_pso.ssv",
     ] {
         assert!(d.join(f).is_file(), "{f} missing");
     }
@@ -78,8 +78,8 @@ fn table8_quick_writes_every_row_figure_and_design() {
         assert!(b(label, "PSO") > 0.0, "{label}");
     }
     assert!(b("DVF", "PSO") > 3.2, "PSO-tuned DVF {} mm", b("DVF", "PSO"));
-    let xml = std::fs::read_to_string(d.join("dvf_calibrated.ssv")).unwrap();
-    let params = ssp::parse_ssv(&xml, "dvf_calibrated.ssv", "").unwrap();
+    let xml = std::fs::read_to_string(d.join("benchmark_dvf_calibrated.ssv")).unwrap();
+    let params = ssp::parse_ssv(&xml, "benchmark_dvf_calibrated.ssv", "").unwrap();
     assert!(params.iter().any(|p| p.name == "n_c") && params.iter().any(|p| p.name == "Dc[1,1]"));
 }
 

@@ -13,7 +13,7 @@
 //! receptance (Figure 17) and the seed's saturation check (margin 0) on the fresh noise seeds
 //! 101–110. Files: `table8.md`, `table_a1.md`, `fig17_receptance.{csv,png}`,
 //! `fig18_lobes_{500,1000}.{csv,png}`, and each benchmark design as a `LinearController`
-//! parameter set `<controller>_{calibrated,pso}.ssv`.
+//! parameter set `benchmark_<controller>_{calibrated,pso}.ssv`.
 
 use crate::benchmark::{self, ALL, Benchmark, BenchmarkProblem, Designed, Response};
 use crate::closed_loop::AnyController;
@@ -301,7 +301,7 @@ pub fn run(spec: &Table8Spec, out: &Path, progress: &dyn Fn(&str)) -> Result<Str
         }
         if let Some(d) = &row.design {
             let name =
-                format!("{}_{}", model_kit::Choice::name(d.kind), if row.mode == "PSO" { "pso" } else { "calibrated" });
+                format!("benchmark_{}_{}", model_kit::Choice::name(d.kind), if row.mode == "PSO" { "pso" } else { "calibrated" });
             let path = out.join(format!("{name}.ssv"));
             let text = design_ssv(&name, d).map_err(err)?;
             std::fs::write(&path, text).map_err(|e| StudyError::io(&path, e))?;

@@ -16,8 +16,8 @@
 //! chatter frequencies (≈ 140 Hz, `ωT` ≈ 0.5°) this moves the boundary by far less than the
 //! 3 % the check allows; the measured difference is what [`FmuLoop::boundary`] reports.
 
-use crate::closed_loop::{RELEASE, quiet_release};
-use crate::scenario::{Roles, roles};
+use crate::closed_loop::{AnyController, DEFAULT_STEP, RELEASE, quiet_release};
+use crate::scenario::{Roles, roles, roles_with};
 use chatter_control::{ControllerParams, Structure};
 use fmi_master::{Observer, Override, Progress, RunConfig, SimError, Simulation, SystemFile};
 use milling_plant::{CuttingModel, PlantInputs, PlantParams};
@@ -59,10 +59,23 @@ impl<'a> FmuLoop<'a> {
         Ok(FmuLoop { sys, roles: roles(sys)?, plant: plant.clone() })
     }
 
+    /// The loop of a system whose controller is a `LinearController` (`Benchmark.ssp`).
+    pub fn linear(sys: &'a SystemFile, plant: &PlantParams) -> Result<Self, StudyError> {
+        use fmi2_export::Fmi2Model;
+        let id = fmu_linear_controller::LinearController::description().model_identifier().unwrap_or_default();
+        Ok(FmuLoop { sys, roles: roles_with(sys, &id)?, plant: plant.clone() })
+    }
+
     /// The typed overrides of one run: the whole plant parameter set (the machine, released
     /// quietly, averaged cutting at `depth`), its inputs at `rpm` without feed, and the whole
     /// controller parameter set with saturation lifted (`off` for the open loop).
     pub fn overrides(&self, ctrl: Option<&ControllerParams>, rpm: f64, depth: f64) -> Vec<Override> {
+        self.overrides_with(ctrl.map(|c| AnyController::Chatter(*c)).as_ref(), rpm, depth)
+    }
+
+    /// [`FmuLoop::overrides`] for either controller FMU (a `LinearController` set gets its
+    /// saturation lifted).
+    pub fn overrides_with(&self, ctrl: Option<&AnyController>, rpm: f64, depth: f64) -> Vec<Override> {
         let mut p = quiet_release(&self.plant);
         p.cutting.enabled = true;
         p.cutting.model = CuttingModel::Averaged;
@@ -71,7 +84,12 @@ impl<'a> FmuLoop<'a> {
         let mut o = overrides_of(&self.roles.plant, fmu_plant::parameter_assignments(&p));
         o.extend(overrides_of(&self.roles.plant, fmu_plant::TABLE.input_assignments(&inputs)));
         match ctrl {
-            Some(c) if c.structure != Structure::Off => {
+            Some(AnyController::Linear(p)) => {
+                let mut p = (**p).clone();
+                p.saturation = [1e9; 2];
+                o.extend(overrides_of(&self.roles.controller, fmu_linear_controller::parameter_assignments(&p)));
+            }
+            Some(AnyController::Chatter(c)) if c.structure != Structure::Off => {
                 let c = ControllerParams { u_max: 1e9, ..*c };
                 o.extend(overrides_of(&self.roles.controller, fmu_controller::parameter_assignments(&c)));
             }
@@ -93,12 +111,27 @@ impl<'a> FmuLoop<'a> {
         depth: f64,
         duration: f64,
     ) -> Result<f64, StudyError> {
-        let step = ctrl.map_or(1e-5, |c| c.ts);
+        self.growth_ratio_with(ctrl.map(|c| AnyController::Chatter(*c)).as_ref(), rpm, depth, duration)
+    }
+
+    /// [`FmuLoop::growth_ratio`] for either controller FMU (a `LinearController` is stepped every
+    /// 10 µs).
+    pub fn growth_ratio_with(
+        &self,
+        ctrl: Option<&AnyController>,
+        rpm: f64,
+        depth: f64,
+        duration: f64,
+    ) -> Result<f64, StudyError> {
+        let step = match ctrl {
+            Some(AnyController::Chatter(c)) => c.ts,
+            _ => DEFAULT_STEP,
+        };
         let cfg = RunConfig {
             start: Some(0.0),
             stop: Some(duration),
             step: Some(step),
-            overrides: self.overrides(ctrl, rpm, depth),
+            overrides: self.overrides_with(ctrl, rpm, depth),
             record: Some(vec![format!("{}.x", self.roles.plant)]),
             ..RunConfig::default()
         };

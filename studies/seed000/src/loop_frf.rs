@@ -16,7 +16,6 @@ use crate::closed_loop::{AnyController, CoreLoop, Coupling, DEFAULT_STEP, quiet_
 use chatter_control::{Controller, ControllerParams, Structure};
 use delay_stability::zero_order::{Cutting, GridOptions, LobeError, LobeProblem};
 use milling_plant::PlantParams;
-use milling_plant::params::{MillingMode, Mode};
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
@@ -117,26 +116,10 @@ pub fn seed_plant() -> PlantParams {
     PlantParams::default()
 }
 
-/// The Ozsoy et al. benchmark plant of the seed's Section 5.7: first mode 142.1 Hz, ζ = 0.88 %,
-/// k = 2.43e7 N/m; 16 mm 4-flute end mill, half-immersion down-milling; ±27 N actuator.
-///
-/// The seed gives no cutting coefficients for Al-7075 and no direction for this plant: we keep
-/// the seed's Table 4 coefficients (K_t = 760, K_r = 210 N/mm²) and take the flexible direction
-/// normal to the feed (β = 90°), for which down-milling has the same
-/// `α₀ = Z/(2π)(1/2 + k_r π/4)` as up-milling along the feed. Actuator as Table 1.
+/// The Ozsoy et al. benchmark plant of the seed's Section 5.7
+/// ([`PlantParams::ozsoy_benchmark`]: its readings are documented there).
 pub fn ozsoy_plant() -> PlantParams {
-    let mut p = PlantParams::default();
-    let k = 2.43e7;
-    let wn = 2.0 * PI * 142.1;
-    p.workpiece.first = Mode { mass: k / (wn * wn), stiffness: k, damping_ratio: 0.0088 };
-    p.workpiece.modes = 1;
-    p.cutting.teeth = 4;
-    p.cutting.tool_radius = 8e-3;
-    p.cutting.radial_engagement = 8e-3;
-    p.cutting.milling = MillingMode::Down;
-    p.cutting.direction_angle = PI / 2.0;
-    p.actuator.f_max = 27.0;
-    p
+    PlantParams::ozsoy_benchmark()
 }
 
 #[cfg(test)]

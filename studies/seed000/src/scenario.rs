@@ -40,8 +40,14 @@ impl Roles {
 /// The components whose FMUs are the project's plant and controller (by `modelIdentifier`).
 pub fn roles(sys: &SystemFile) -> Result<Roles, StudyError> {
     use fmi2_export::Fmi2Model;
+    roles_with(sys, &fmu_controller::ChatterController::description().model_identifier().unwrap_or_default())
+}
+
+/// The components whose FMUs are the project's plant and the controller FMU `ctrl_id` (by
+/// `modelIdentifier`; `LinearController` for the Table 8 benchmark).
+pub fn roles_with(sys: &SystemFile, ctrl_id: &str) -> Result<Roles, StudyError> {
+    use fmi2_export::Fmi2Model;
     let plant_id = fmu_plant::MillingPlant::description().model_identifier().unwrap_or_default();
-    let ctrl_id = fmu_controller::ChatterController::description().model_identifier().unwrap_or_default();
     let (mut plant, mut controller) = (Vec::new(), Vec::new());
     for c in &sys.desc.components {
         let fmu = Fmu::open(&sys.fmu_path(c)?)?;
