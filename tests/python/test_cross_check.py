@@ -122,3 +122,24 @@ def test_table2_ssp_binds_the_paper_gains_and_both_masters_apply_them(tmp_path):
         assert_close(name, rust[name], py[name])
     tuned = run_rust(tmp_path, args, "tuned")
     assert not np.allclose(tuned["controller.u"], rust["controller.u"]), "the bindings had no effect"
+
+
+def test_benchmark_dvf_rust_master_matches_an_fmpy_loop_to_1e_12(tmp_path):
+    """Seed 000's Table 8 benchmark (Benchmark.ssp: MillingPlant bound to the Ozsoy plant,
+    LinearController bound to the calibrated DVF) in the Rust master and in the FMPy loop, with
+    cutting, noise and drift as bound: every recorded column agrees to 1e-12."""
+    record = ["plant.x", "plant.u", "plant.actuator_force", "controller.v_x", "controller.F_x", "controller.w_x"]
+    overrides = {"plant.seed": "5"}
+    sets = sum((["--set", f"{k}={v}"] for k, v in overrides.items()), [])
+    rust = run_rust(tmp_path, ["--stop-time", str(STOP), "--record", ",".join(record)] + sets, "benchmark",
+                    ssp="Benchmark.ssp")
+    system = System(ssp_path("Benchmark.ssp"))
+    try:
+        assert [c.name for c in system.sequence] == ["controller", "plant"]
+        times, py = system.run(STOP, overrides, record)
+    finally:
+        system.close()
+    assert len(rust["time"]) == len(times) == round(STOP / 1e-5) + 1
+    for name in record:
+        assert_close(name, rust[name], py[name])
+    assert np.abs(np.asarray(py["controller.F_x"])).max() > 0.1, "the DVF acts"

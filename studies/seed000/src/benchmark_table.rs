@@ -300,8 +300,11 @@ pub fn run(spec: &Table8Spec, out: &Path, progress: &dyn Fn(&str)) -> Result<Str
             fig17.push((row.label.clone(), freqs.iter().map(|&f| (f, w(f))).collect()));
         }
         if let Some(d) = &row.design {
-            let name =
-                format!("benchmark_{}_{}", model_kit::Choice::name(d.kind), if row.mode == "PSO" { "pso" } else { "calibrated" });
+            let name = format!(
+                "benchmark_{}_{}",
+                model_kit::Choice::name(d.kind),
+                if row.mode == "PSO" { "pso" } else { "calibrated" }
+            );
             let path = out.join(format!("{name}.ssv"));
             let text = design_ssv(&name, d).map_err(err)?;
             std::fs::write(&path, text).map_err(|e| StudyError::io(&path, e))?;
@@ -350,4 +353,39 @@ pub fn run(spec: &Table8Spec, out: &Path, progress: &dyn Fn(&str)) -> Result<Str
         "Table 8 (Ozsoy plant; PSO {} runs of {} × {}, constraint: noise seeds 1..={}, margin {}):\n\n{md}\nTable A1:\n\n{a1_rows}",
         spec.runs, spec.particles, spec.iterations, spec.check_seeds, spec.margin
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The calibrated designs packaging ships (`designs/benchmark_*_calibrated.ssv`, and the DVF
+    /// gain `Benchmark.ssp` binds) are the ones the calibration gives now: read through the
+    /// LinearController's table, their responses equal the fresh designs' to 1e-6.
+    #[test]
+    fn shipped_calibrated_designs_are_the_calibration() {
+        let plant = loop_frf::ozsoy_plant();
+        let speeds = speed_grid(1000.0, 3000.0, 41);
+        for kind in ALL {
+            let (x, d) = benchmark::calibrate(&plant, kind, reference(kind.label()), &speeds, Response::Fmu).unwrap();
+            if kind == Benchmark::Dvf {
+                assert!((x / packaging::BENCHMARK_DVF_GAIN - 1.0).abs() < 1e-5, "DVF gain {x}");
+            }
+            let file = format!("benchmark_{}_calibrated.ssv", model_kit::Choice::name(kind));
+            let (_, xml) = packaging::BENCHMARK_DESIGNS.iter().find(|(n, _)| *n == file).unwrap();
+            let mut r = study_kit::fmu_params::Resolved::default();
+            for p in ssp::parse_ssv(xml, &file, "").unwrap() {
+                study_kit::fmu_params::apply_ssp::<fmu_linear_controller::LinearController>(&mut r, &p.name, &p.value)
+                    .unwrap();
+            }
+            let (a, b) = (
+                linear_control::LinearController::new(&r.params).unwrap(),
+                linear_control::LinearController::new(&d.params).unwrap(),
+            );
+            for w in [30.0, 892.8, 3000.0] {
+                let (fa, fb) = (a.frequency_response(w, 0.0)[0][0], b.frequency_response(w, 0.0)[0][0]);
+                assert!((fa - fb).norm() <= 1e-6 * fb.norm(), "{file} at {w}: {fa} vs {fb}");
+            }
+        }
+    }
 }

@@ -63,7 +63,7 @@ impl<'a> FmuLoop<'a> {
     pub fn linear(sys: &'a SystemFile, plant: &PlantParams) -> Result<Self, StudyError> {
         use fmi2_export::Fmi2Model;
         let id = fmu_linear_controller::LinearController::description().model_identifier().unwrap_or_default();
-        Ok(FmuLoop { sys, roles: roles_with(sys, &id)?, plant: plant.clone() })
+        Ok(FmuLoop { sys, roles: roles_with(sys, id)?, plant: plant.clone() })
     }
 
     /// The typed overrides of one run: the whole plant parameter set (the machine, released

@@ -40,7 +40,7 @@ impl Roles {
 /// The components whose FMUs are the project's plant and controller (by `modelIdentifier`).
 pub fn roles(sys: &SystemFile) -> Result<Roles, StudyError> {
     use fmi2_export::Fmi2Model;
-    roles_with(sys, &fmu_controller::ChatterController::description().model_identifier().unwrap_or_default())
+    roles_with(sys, fmu_controller::ChatterController::description().model_identifier().unwrap_or_default())
 }
 
 /// The components whose FMUs are the project's plant and the controller FMU `ctrl_id` (by

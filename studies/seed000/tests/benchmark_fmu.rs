@@ -5,12 +5,12 @@
 //! FMU's own table and code path equals the design core's.
 
 use benchmark_control::designs::dvf_at;
+use delay_stability::zero_order::speed_grid;
 use fmi_master::SystemFile;
 use seed000::benchmark::{self, ALL, Benchmark, Response};
 use seed000::closed_loop::AnyController;
 use seed000::fmu_validation::FmuLoop;
 use seed000::loop_frf;
-use delay_stability::zero_order::speed_grid;
 
 #[test]
 fn benchmark_designs_decay_below_and_grow_above_their_lobes_through_the_fmus() {
@@ -36,7 +36,11 @@ fn benchmark_designs_decay_below_and_grow_above_their_lobes_through_the_fmus() {
             let b = prob.critical_depth(rpm).depth;
             let below = fl.growth_ratio_with(Some(&ctrl), rpm, 0.97 * b, 1.5).unwrap();
             let above = fl.growth_ratio_with(Some(&ctrl), rpm, 1.03 * b, 1.5).unwrap();
-            eprintln!("{} at {rpm:.0} rpm, b = {:.4} mm: growth {below:.3} at 0.97, {above:.3} at 1.03", kind.label(), b * 1e3);
+            eprintln!(
+                "{} at {rpm:.0} rpm, b = {:.4} mm: growth {below:.3} at 0.97, {above:.3} at 1.03",
+                kind.label(),
+                b * 1e3
+            );
             if !(below < 1.0 && above > 1.0) {
                 failures.push(format!("{} at {rpm} rpm: {below}, {above}", kind.label()));
             }
@@ -46,7 +50,8 @@ fn benchmark_designs_decay_below_and_grow_above_their_lobes_through_the_fmus() {
         let xml = seed000::benchmark_table::design_ssv("x", &d).unwrap();
         let mut r = study_kit::fmu_params::Resolved::default();
         for p in ssp::parse_ssv(&xml, "x.ssv", "").unwrap() {
-            study_kit::fmu_params::apply_ssp::<fmu_linear_controller::LinearController>(&mut r, &p.name, &p.value).unwrap();
+            study_kit::fmu_params::apply_ssp::<fmu_linear_controller::LinearController>(&mut r, &p.name, &p.value)
+                .unwrap();
         }
         for w in [50.0, 892.8, 5e3] {
             let fmu = fmu_linear_controller::frequency_response(&r.params, w, 0.0).unwrap()[0][0];
