@@ -65,3 +65,34 @@ fn benchmark_designs_decay_below_and_grow_above_their_lobes_through_the_fmus() {
     }
     assert!(failures.is_empty(), "{failures:?}");
 }
+
+/// The DVF's inertial-actuator limit (`benchmark_control::designs::dvf_gain_limit`, the root
+/// locus of the loop sampled at 10 µs: 1.1823e5 N·s/m) confirmed **through the FMUs**:
+/// `Benchmark.ssp` with the cut at zero depth, released from 1 µm, saturation lifted, 4 s: at
+/// 0.97 of the limit the actuator's 8.4 Hz suspension mode decays, at 1.03 it grows (the cores'
+/// test `seed000::benchmark::tests::dvf_actuator_limit_in_the_time_domain` gives 0.587 / 1.673).
+#[test]
+fn dvf_actuator_limit_through_the_fmus() {
+    let dir = packaging::fmu_dir();
+    let ssp = dir.join("Benchmark.ssp");
+    assert!(ssp.is_file(), "no {}: run `cargo run --release -p packaging` first", ssp.display());
+    let sys = SystemFile::open(&ssp, Some(&dir)).unwrap();
+    let plant = loop_frf::ozsoy_plant();
+    let fl = FmuLoop::linear(&sys, &plant).unwrap();
+    let dp = benchmark::design_plant(&plant);
+    let limit = benchmark_control::designs::dvf_gain_limit(
+        &dp,
+        benchmark_control::designs::FILTER_HZ,
+        Some(seed000::closed_loop::DEFAULT_STEP),
+        (1e3, 1e7),
+    )
+    .unwrap();
+    assert!((limit / 1.1823e5 - 1.0).abs() < 1e-3, "sampled limit {limit}");
+    let ratio = |f: f64| {
+        let d = benchmark::design(&plant, Benchmark::Dvf, &[f * limit]).unwrap();
+        fl.growth_ratio_with(Some(&AnyController::Linear(Box::new(d.params))), 2000.0, 0.0, 4.0).unwrap()
+    };
+    let (below, above) = (ratio(0.97), ratio(1.03));
+    eprintln!("DVF actuator limit {limit:.5e} N·s/m through the FMUs: growth {below:.3} at 0.97, {above:.3} at 1.03");
+    assert!(below < 1.0 && above > 1.0, "{below}, {above}");
+}
