@@ -448,5 +448,17 @@ pub(crate) mod tests {
         assert!(r.achieved >= DEFAULT_HINF.ws_dc * (1.0 - 1e-6), "{r:?}");
         assert!(r.achieved >= r.gamma_opt * (1.0 - 1e-3), "{r:?}");
         assert!(r.gamma_opt <= r.gamma);
+        // the reported norm equals an independent frequency sweep of the same closed loop
+        let (gp, _) = generalized(&plant, &DEFAULT_HINF.weights(&plant), None).unwrap();
+        let cl = gp.close(&d.controller.rescaled(1.0 / plant.omega_n(), 1.0 / plant.stiffness, 1.0));
+        let single = StateSpace {
+            a: cl.a.clone(),
+            b: cl.b.columns(0, 1).into_owned(),
+            c: cl.c,
+            d: cl.d.columns(0, 1).into_owned(),
+        };
+        let sweep = crate::norm::sweep_norm(&single, 1e-4, 1e3, 4001);
+        eprintln!("H∞ achieved {} vs sweep {} at {}", r.achieved, sweep.value, sweep.omega);
+        assert!((sweep.value / r.achieved - 1.0).abs() < 1e-6, "sweep {sweep:?} vs {r:?}");
     }
 }

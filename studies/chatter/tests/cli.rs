@@ -78,6 +78,16 @@ fn table8_quick_writes_every_row_figure_and_design() {
         assert!(b(label, "PSO") > 0.0, "{label}");
     }
     assert!(b("DVF", "PSO") > 3.2, "PSO-tuned DVF {} mm", b("DVF", "PSO"));
+    // every controlled row reports the seed's check on the ten fresh seeds; H∞ and μ rows their
+    // achieved norm and μ bounds
+    for r in rows.iter().filter(|r| r.len() > 10 && r[2] != "–") {
+        assert!(r[9].contains("/10 (peak"), "{r:?}");
+        match r[1].as_str() {
+            "H∞" => assert!(r[10].contains("achieved ‖[W_S S; W_T T]‖∞"), "{r:?}"),
+            "μ" => assert!(r[10].contains("μ upper bound RP"), "{r:?}"),
+            _ => {}
+        }
+    }
     let xml = std::fs::read_to_string(d.join("benchmark_dvf_calibrated.ssv")).unwrap();
     let params = ssp::parse_ssv(&xml, "benchmark_dvf_calibrated.ssv", "").unwrap();
     assert!(params.iter().any(|p| p.name == "n_c") && params.iter().any(|p| p.name == "Dc[1,1]"));

@@ -117,6 +117,24 @@ pub fn design_ssv(name: &str, d: &Designed) -> Result<String, String> {
     ssp::ssv_xml(name, &params).map_err(|e| e.to_string())
 }
 
+/// The levels and bounds an H∞ or μ design reports (`benchmark_control::designs::Report`), for
+/// the table's variables column; empty for the other controllers.
+fn bounds(d: &Designed) -> String {
+    let r = &d.report;
+    match d.kind {
+        Benchmark::Hinf => {
+            format!("; γ_opt {:.4}, γ {:.4}, achieved ‖[W_S S; W_T T]‖∞ {:.4}", r.gamma_opt, r.gamma, r.achieved)
+        }
+        Benchmark::Mu => {
+            format!(
+                "; μ upper bound RP {:.4}, RS {:.4}, γ {:.4}, {} D–K steps",
+                r.mu_peak, r.mu_rs, r.gamma, r.dk_steps
+            )
+        }
+        _ => String::new(),
+    }
+}
+
 /// Table A1 statistics of one controller's runs: (n_p, mean, std, CV %, mean k_conv).
 fn a1(costs: &[f64], histories: &[&[f64]], n_p: usize) -> (usize, f64, f64, f64, f64) {
     let (m, s) = mean_std(costs);
@@ -143,7 +161,7 @@ pub fn run(spec: &Table8Spec, out: &Path, progress: &dyn Fn(&str)) -> Result<Str
         let target = reference(kind.label());
         progress(&format!("calibrating {} to {:.2} mm", kind.label(), target * 1e3));
         let (x, d) = benchmark::calibrate(&plant, kind, target, &speeds, Response::Fmu).map_err(err)?;
-        let variables = format!("{} = {x:.5e}", benchmark::calibration(kind).0);
+        let variables = format!("{} = {x:.5e}{}", benchmark::calibration(kind).0, bounds(&d));
         rows.push(Row {
             label: kind.label().into(),
             mode: "calibrated",
@@ -218,7 +236,7 @@ pub fn run(spec: &Table8Spec, out: &Path, progress: &dyn Fn(&str)) -> Result<Str
                 label: label.into(),
                 mode: "PSO",
                 ctrl: Some(AnyController::Linear(Box::new(best.best.params.clone()))),
-                variables: format!("{variables}; J = {:.4}", best.breakdown.cost),
+                variables: format!("{variables}; J = {:.4}{}", best.breakdown.cost, bounds(&best.best)),
                 design: Some(best.best.clone()),
             });
         } else if let Some(s) = structure {
