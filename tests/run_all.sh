@@ -28,7 +28,7 @@ fi
 export FMU_PLATFORMS=linux64-portable,win64
 
 step "docs book (mkdocs build --strict: broken links and anchors fail; site in target/book)"
-.venv/bin/mkdocs build --strict -f docs/mkdocs.yml  # not --quiet: it hides the warnings that --strict counts
+.venv/bin/python -m mkdocs build --strict -f docs/mkdocs.yml  # not --quiet: it hides the warnings that --strict counts
 
 step "cargo fmt --check"
 cargo fmt --all --check
