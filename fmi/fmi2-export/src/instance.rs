@@ -305,6 +305,9 @@ pub struct Instance<M: Fmi2Model> {
     index: VarIndex,
     /// The per-step checks of `fmi2SetReal`, by value reference.
     real_checks: Vec<RealCheck>,
+    /// The Real outputs (value reference, position in the description), checked finite after
+    /// every step and after initialization ([`Instance::check_outputs`]).
+    real_outputs: Vec<(ValueReference, usize)>,
     /// Current state.
     pub state: State,
     env: Environment,
@@ -346,6 +349,13 @@ impl<M: Fmi2Model> Instance<M> {
             md,
             index,
             real_checks: RealCheck::table(md),
+            real_outputs: md
+                .variables()
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.causality == Causality::Output && v.scalar_type() == ScalarType::Real)
+                .map(|(i, v)| (v.value_reference, i))
+                .collect(),
             state: State::Instantiated,
             env,
             values: Values::from_description(md),
@@ -454,9 +464,37 @@ impl<M: Fmi2Model> Instance<M> {
     fn build_model(&mut self) -> CallResult<()> {
         let model = M::initialize(&self.values, &self.env).map_err(CallError::Error)?;
         model.update_outputs(&mut self.values);
+        self.check_outputs().map_err(|m| CallError::error(format!("initialization: {m}")))?;
         self.model = Some(model);
         self.dirty = false;
         Ok(())
+    }
+
+    /// Every Real output is finite: a model whose arithmetic overflowed (an input of 1e308, a
+    /// diverging state) must not hand NaN or ±Inf to the master with `fmi2OK`. The error names
+    /// the outputs and the inputs they were computed from.
+    fn check_outputs(&self) -> Result<(), String> {
+        let vars = self.md.variables();
+        let bad: Vec<String> = self
+            .real_outputs
+            .iter()
+            .filter(|&&(vr, _)| !self.values.real(vr).is_finite())
+            .map(|&(vr, i)| format!("{} = {}", vars[i].name, self.values.real(vr)))
+            .collect();
+        if bad.is_empty() {
+            return Ok(());
+        }
+        let inputs: Vec<String> = vars
+            .iter()
+            .filter(|v| v.causality == Causality::Input && v.scalar_type() == ScalarType::Real)
+            .map(|v| format!("{} = {:e}", v.name, self.values.real(v.value_reference)))
+            .collect();
+        Err(format!(
+            "non-finite output{} {} (the model's arithmetic overflowed; inputs {}); the instance cannot continue",
+            if bad.len() > 1 { "s" } else { "" },
+            bad.join(", "),
+            if inputs.is_empty() { "none".to_string() } else { inputs.join(", ") }
+        ))
     }
 
     /// `fmi2ExitInitializationMode`: builds the model from the parameters.
@@ -669,7 +707,7 @@ impl<M: Fmi2Model> Instance<M> {
         match model.do_step(&mut self.values, now, step.0, &mut log) {
             Ok(()) => {
                 self.clock.advance_by(step);
-                Ok(())
+                self.check_outputs().map_err(|m| CallError::error(format!("fmi2DoStep at t = {now}: {m}")))
             }
             Err(StepError::Discard(m)) => {
                 self.state = State::StepFailed;
