@@ -62,20 +62,20 @@ pub static TABLE: LazyLock<Table<ControllerParams, ControllerInputs, ControllerO
                 0  "structure"    [enum structure]    ""        []              "controller structure";
                 10 "u_max"        [u_max]             "N"       [0.0, 1e9]      "actuator command limit";
                 11 "Ts"           [ts]                "s"       [1e-9, 1.0]     "sample period";
-                20 "pid.kp"       [pid.kp]            "N/m"     [-1e12, 1e12]   "PID proportional gain";
-                21 "pid.ki"       [pid.ki]            "N/(m.s)" [0.0, 1e12]     "PID integral gain";
-                22 "pid.kd"       [pid.kd]            "N.s/m"   [-1e12, 1e12]   "PID derivative gain";
+                tunable 20 "pid.kp"       [pid.kp]            "N/m"     [-1e12, 1e12]   "PID proportional gain";
+                tunable 21 "pid.ki"       [pid.ki]            "N/(m.s)" [0.0, 1e12]     "PID integral gain";
+                tunable 22 "pid.kd"       [pid.kd]            "N.s/m"   [-1e12, 1e12]   "PID derivative gain";
                 23 "pid.tf"       [pid.tf]            "s"       [0.0, 1.0]      "PID derivative filter time constant (0: none)";
-                30 "fopid.kp"     [fopid.kp]          "N/m"     [-1e12, 1e12]   "proportional gain (u in N)";
-                31 "fopid.ki"     [fopid.ki]          ""        [0.0, 1e12]     "fractional integral gain (u in N; unit N/(m s^lambda))";
-                32 "fopid.kd"     [fopid.kd]          ""        [-1e12, 1e12]   "fractional derivative gain (u in N; unit N s^mu/m)";
-                33 "fopid.lambda" [fopid.lambda]      ""        [0.0, 3.0]      "integral order lambda";
-                34 "fopid.mu"     [fopid.mu]          ""        [0.0, 3.0]      "derivative order mu";
-                40 "adrc.kp"      [adrc.fopid.kp]     "1/s2"    [-1e12, 1e12]   "proportional gain (u0 in m/s2)";
-                41 "adrc.ki"      [adrc.fopid.ki]     ""        [0.0, 1e12]     "fractional integral gain (u0 in m/s2; unit s^(lambda-2))";
-                42 "adrc.kd"      [adrc.fopid.kd]     ""        [-1e12, 1e12]   "fractional derivative gain (u0 in m/s2; unit s^(mu-2))";
-                43 "adrc.lambda"  [adrc.fopid.lambda] ""        [0.0, 3.0]      "integral order lambda";
-                44 "adrc.mu"      [adrc.fopid.mu]     ""        [0.0, 3.0]      "derivative order mu";
+                tunable 30 "fopid.kp"     [fopid.kp]          "N/m"     [-1e12, 1e12]   "proportional gain (u in N)";
+                tunable 31 "fopid.ki"     [fopid.ki]          "N/(m.s^lambda)"        [0.0, 1e12]     "fractional integral gain (u in N; unit N/(m s^lambda))";
+                tunable 32 "fopid.kd"     [fopid.kd]          "N.s^mu/m"        [-1e12, 1e12]   "fractional derivative gain (u in N; unit N s^mu/m)";
+                33 "fopid.lambda" [fopid.lambda]      "1"        [0.0, 3.0]      "integral order lambda";
+                34 "fopid.mu"     [fopid.mu]          "1"        [0.0, 3.0]      "derivative order mu";
+                tunable 40 "adrc.kp"      [adrc.fopid.kp]     "1/s2"    [-1e12, 1e12]   "proportional gain (u0 in m/s2)";
+                tunable 41 "adrc.ki"      [adrc.fopid.ki]     "s^(lambda-2)"        [0.0, 1e12]     "fractional integral gain (u0 in m/s2; unit s^(lambda-2))";
+                tunable 42 "adrc.kd"      [adrc.fopid.kd]     "s^(mu-2)"        [-1e12, 1e12]   "fractional derivative gain (u0 in m/s2; unit s^(mu-2))";
+                43 "adrc.lambda"  [adrc.fopid.lambda] "1"        [0.0, 3.0]      "integral order lambda";
+                44 "adrc.mu"      [adrc.fopid.mu]     "1"        [0.0, 3.0]      "derivative order mu";
                 45 "adrc.omega_o" [adrc.omega_o]      "rad/s"   [1e-3, 1e9]     "ESO bandwidth (error poles at -omega_o)";
                 46 "adrc.b0"      [adrc.b0]           "1/kg"    [1e-9, 1e9]     "nominal input gain 1/Mw";
                 47 "adrc.td_r"    [adrc.td_r]         "m/s2"    [1e-12, 1e12]   "TD speed factor r0";
@@ -172,6 +172,13 @@ impl Fmi2Model for ChatterController {
         }
         self.update_outputs(v);
         Ok(())
+    }
+
+    /// The gains (`pid.*`, `fopid.*`, `adrc.*` kp, ki, kd) are tunable: a change between steps
+    /// applies from the next sample on, with every state kept ([`Controller::retune`]).
+    fn retune(&mut self, values: &Values) -> Result<(), String> {
+        let p = TABLE.read_parameters(values)?;
+        self.ctrl.retune(&p)
     }
 
     /// One controller sample per sample period `ts` in the step (and one more at most), each

@@ -102,3 +102,34 @@ fn the_longest_memory_at_the_shortest_sample_period_is_bounded_per_call() {
     let n = fmi2_export::MAX_INTERNAL_STEPS_PER_CALL / fmu_controller::SAMPLE_COST - 1.0;
     assert_eq!(n, 99_999.0);
 }
+
+/// Every parameter was `fixed`: a gain could not change during a run. The gains are tunable now
+/// and a change between steps acts from the next sample on, with the controller's state kept
+/// (a rebuilt controller would start from empty integrators: the two differ).
+#[test]
+fn a_gain_changed_between_steps_acts_at_the_next_sample_with_the_state_kept() {
+    use fmi2_export::table::checks::real;
+    let pid = [("structure", Value::Integer(2))];
+    let (mut a, mut b) = (ready_with::<M>(&pid), ready_with::<M>(&pid));
+    let kp = ControllerParams::default().pid.kp;
+    for k in 0..40 {
+        let y = 1e-9 * (k as f64 * 0.3).sin();
+        set_real(&mut a, "y", y);
+        set_real(&mut b, "y", y);
+        if k == 20 {
+            set_real(&mut b, "pid.kp", 2.0 * kp);
+        }
+        a.do_step(k as f64 * 1e-5, 1e-5).unwrap();
+        b.do_step(k as f64 * 1e-5, 1e-5).unwrap();
+        let (ua, ub) = (real(&mut a, "u"), real(&mut b, "u"));
+        if k < 20 {
+            assert_eq!(ua.to_bits(), ub.to_bits(), "step {k}");
+        } else {
+            // u = kp e + ki ∫e + kd ė: the change is kp e exactly (the state is the same)
+            let e = real(&mut b, "e");
+            assert!(ua.abs() < 0.5 * ControllerParams::default().u_max, "unsaturated: {ua}");
+            assert!((ub - ua - kp * e).abs() <= 1e-9 * ua.abs().max(ub.abs()), "step {k}: {ua} {ub}");
+        }
+    }
+    assert_eq!(b.model().unwrap().params().pid.kp, 2.0 * kp);
+}

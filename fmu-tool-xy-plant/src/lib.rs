@@ -84,8 +84,8 @@ pub static TABLE: LazyLock<Table<ToolParams, ToolInputs, ToolXyOutputs>> = LazyL
                 120 "m_d"        [damper_mass]          "kg"    [1e-9, 1e9]     "damper mass (5 % of 20 kg)";
                 121 "k_d"        [damper_stiffness]     "N/m"   [0.0, 1e15]     "damper centring stiffness (not in the paper)";
                 122 "Lambda"     [friction_viscous]     "N.s/m" [0.0, 1e12]     "damper viscous friction (Eq. 13)";
-                123 "Gamma"      [friction_coulomb]     ""      [0.0, 1e6]      "damper Coulomb friction coefficient (Eq. 13)";
-                124 "Upsilon"    [friction_smoothing]   ""      [0.0, 1e12]     "tanh smoothing of the Coulomb friction (Eq. 13) [s/m]";
+                123 "Gamma"      [friction_coulomb]     "1"      [0.0, 1e6]      "damper Coulomb friction coefficient (Eq. 13)";
+                124 "Upsilon"    [friction_smoothing]   "s/m"      [0.0, 1e12]     "tanh smoothing of the Coulomb friction (Eq. 13) [s/m]";
                 125 "A_x"        [forcing_amplitude[0]] "N"     [-1e9, 1e9]     "harmonic forcing amplitude, x";
                 126 "A_y"        [forcing_amplitude[1]] "N"     [-1e9, 1e9]     "harmonic forcing amplitude, y";
                 127 "omega_f"    [forcing_frequency]    "rad/s" [0.0, 1e9]      "forcing frequency (650 rad/s)";

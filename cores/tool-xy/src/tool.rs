@@ -379,7 +379,8 @@ impl ToolPlant {
         let h = self.dt;
         let (t2, t3) = (th * th, th * th * th);
         let (h00, h10, h01, h11) = (2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + th, -2.0 * t3 + 3.0 * t2, t3 - t2);
-        let (d00, d10, d01, d11) = (6.0 * t2 - 6.0 * th, 3.0 * t2 - 4.0 * th + 1.0, -6.0 * t2 + 6.0 * th, 3.0 * t2 - 2.0 * th);
+        let (d00, d10, d01, d11) =
+            (6.0 * t2 - 6.0 * th, 3.0 * t2 - 4.0 * th + 1.0, -6.0 * t2 + 6.0 * th, 3.0 * t2 - 2.0 * th);
         let pos = |i: usize| h00 * a[i] + h10 * h * a[i + 2] + h01 * b[i] + h11 * h * b[i + 2];
         let vel = |i: usize| (d00 * a[i] + h * d10 * a[i + 2] + d01 * b[i] + h * d11 * b[i + 2]) / h;
         [pos(0), pos(1), vel(0), vel(1)]

@@ -248,11 +248,13 @@ struct RealCheck {
     states: u32,
     lo: f64,
     hi: f64,
+    /// A tunable parameter (a set after initialization asks the model to [retune](Fmi2Model::retune)).
+    tunable: bool,
 }
 
 impl RealCheck {
     /// Undeclared value references: settable in no state.
-    const NONE: RealCheck = RealCheck { states: 0, lo: f64::NAN, hi: f64::NAN };
+    const NONE: RealCheck = RealCheck { states: 0, lo: f64::NAN, hi: f64::NAN, tunable: false };
 
     /// One entry per Real value reference (dense, like [`VarIndex`]).
     fn table(md: &ModelDescription) -> Vec<RealCheck> {
@@ -267,7 +269,8 @@ impl RealCheck {
             }
             let states = State::ALL.iter().filter(|&&s| settable_in(s, v)).fold(0, |m, &s| m | mask::bit(s));
             let (lo, hi) = v.range();
-            t[vr] = RealCheck { states, lo: lo.unwrap_or(f64::NEG_INFINITY), hi: hi.unwrap_or(f64::INFINITY) };
+            let tunable = v.causality == Causality::Parameter && v.variability == Variability::Tunable;
+            t[vr] = RealCheck { states, lo: lo.unwrap_or(f64::NEG_INFINITY), hi: hi.unwrap_or(f64::INFINITY), tunable };
         }
         t
     }
@@ -318,6 +321,8 @@ pub struct Instance<M: Fmi2Model> {
     stop_time: Option<f64>,
     /// Parameters or inputs changed since the model was last built (initialization mode).
     dirty: bool,
+    /// A tunable parameter changed since the last step: the model retunes before the next one.
+    retune: bool,
     debug_categories: Vec<bool>,
     sink: Box<dyn LogSink>,
     /// The message of the `fmi2Error` that put the instance in [`State::Error`].
@@ -364,6 +369,7 @@ impl<M: Fmi2Model> Instance<M> {
             start_time: 0.0,
             stop_time: None,
             dirty: true,
+            retune: false,
             debug_categories: vec![logging_on; LOG_CATEGORIES.len()],
             sink,
             error_cause: None,
@@ -521,6 +527,7 @@ impl<M: Fmi2Model> Instance<M> {
         self.start_time = 0.0;
         self.stop_time = None;
         self.dirty = true;
+        self.retune = false;
         self.state = State::Instantiated;
         self.error_cause = None;
         Ok(())
@@ -590,6 +597,8 @@ impl<M: Fmi2Model> Instance<M> {
         }
         if matches!(self.state, State::Instantiated | State::InitializationMode) {
             self.dirty = true;
+        } else if vrs.iter().any(|&vr| self.real_checks.get(vr as usize).is_some_and(|c| c.tunable)) {
+            self.retune = true;
         }
         Ok(())
     }
@@ -626,7 +635,9 @@ impl<M: Fmi2Model> Instance<M> {
             if lo.is_some_and(|lo| x < lo) || hi.is_some_and(|hi| x > hi) {
                 let hint = v
                     .unit()
-                    .and_then(|u| model_description::units::slip_hint(u, x, lo.unwrap_or(f64::MIN), hi.unwrap_or(f64::MAX)))
+                    .and_then(|u| {
+                        model_description::units::slip_hint(u, x, lo.unwrap_or(f64::MIN), hi.unwrap_or(f64::MAX))
+                    })
                     .map_or(String::new(), |h| format!("; {h}"));
                 return Err(CallError::error(format!(
                     "{call}: value {x} for \"{}\" is outside [{}, {}]{hint}",
@@ -653,7 +664,9 @@ impl<M: Fmi2Model> Instance<M> {
             let v = self.lookup(call, ty, vr)?;
             self.check_value(call, v, x)?;
         }
+        let mut tuned = false;
         for (&vr, x) in vrs.iter().zip(vals) {
+            tuned |= self.lookup(call, ty, vr).is_ok_and(|v| v.causality == Causality::Parameter);
             match x {
                 Value::Real(r) => self.values.set_real(vr, *r),
                 Value::Integer(i) => self.values.set_integer(vr, *i),
@@ -663,6 +676,8 @@ impl<M: Fmi2Model> Instance<M> {
         }
         if matches!(self.state, State::Instantiated | State::InitializationMode) {
             self.dirty = true;
+        } else if tuned {
+            self.retune = true;
         }
         Ok(())
     }
@@ -701,6 +716,10 @@ impl<M: Fmi2Model> Instance<M> {
                  {MAX_INTERNAL_STEPS_PER_CALL:e} per call; split it into steps of at most {} s",
                 h * MAX_INTERNAL_STEPS_PER_CALL / cost
             )));
+        }
+        if self.retune {
+            model.retune(&self.values).map_err(|m| CallError::error(format!("fmi2DoStep at t = {now}: {m}")))?;
+            self.retune = false;
         }
         let step = self.clock.step_for(h);
         let mut log = StepLog { sink: self.sink.as_mut(), info_on, warn_on };
@@ -751,6 +770,8 @@ impl<M: Fmi2Model> Instance<M> {
         self.start_time = snap.start_time;
         self.stop_time = snap.stop_time;
         self.dirty = snap.dirty;
+        // the restored values may hold other tunable parameters than the model was last tuned to
+        self.retune = self.model.is_some();
     }
 }
 

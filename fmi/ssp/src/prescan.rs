@@ -128,10 +128,15 @@ pub(crate) fn prescan(xml: &str, file: &str, root: Root) -> Result<(), SspError>
 
 /// At most [`MAX_ATTRIBUTES`] attributes on `e`, each name once (linear in the document: the
 /// duplicate check compares within this bounded set only).
-fn check_attributes(e: &quick_xml::events::BytesStart<'_>, file: &str, line: impl Fn() -> usize) -> Result<(), SspError> {
+fn check_attributes(
+    e: &quick_xml::events::BytesStart<'_>,
+    file: &str,
+    line: impl Fn() -> usize,
+) -> Result<(), SspError> {
     let mut names: Vec<&[u8]> = Vec::new();
     for a in e.attributes().with_checks(false) {
-        let a = a.map_err(|err| SspError::Xml { file: file.to_string(), message: format!("line {}: {err}", line()) })?;
+        let a =
+            a.map_err(|err| SspError::Xml { file: file.to_string(), message: format!("line {}: {err}", line()) })?;
         let name = a.key.into_inner();
         if names.len() == MAX_ATTRIBUTES {
             return Err(SspError::Invalid {

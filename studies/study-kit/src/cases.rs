@@ -396,9 +396,9 @@ pub fn run_opened<S: CaseStudy>(
     let outcomes: Vec<(String, Result<()>)> = todo
         .par_iter()
         .map(|c| {
-            let r = study.run_case(dir, &c.id, &c.params, &say).and_then(|out| {
-                write_atomic(&result_path(dir, &c.id), &result_bytes(&c.id, &c.params, &out)?)
-            });
+            let r = study
+                .run_case(dir, &c.id, &c.params, &say)
+                .and_then(|out| write_atomic(&result_path(dir, &c.id), &result_bytes(&c.id, &c.params, &out)?));
             if let Some(b) = &bar {
                 b.inc(1);
             }

@@ -298,9 +298,13 @@ fn plot(a: PlotArgs) -> Result<()> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    let same = |x: &Path| std::fs::canonicalize(x).ok().is_some_and(|x| Some(x) == std::fs::canonicalize(&a.output).ok());
+    let same =
+        |x: &Path| std::fs::canonicalize(x).ok().is_some_and(|x| Some(x) == std::fs::canonicalize(&a.output).ok());
     if same(&a.csv) || a.system.as_deref().is_some_and(same) {
-        anyhow::bail!("-o {}: is an input of this command; writing the plot there would destroy it", a.output.display());
+        anyhow::bail!(
+            "-o {}: is an input of this command; writing the plot there would destroy it",
+            a.output.display()
+        );
     }
     let sys = a.system.as_ref().map(|s| open_system(s, a.fmu_dir.as_ref())).transpose()?;
     fmi_master::plot::plot_csv(&a.csv, &a.vars, &a.output, a.spectrum.map(|f| (f, marks)), sys.as_ref())?;

@@ -163,8 +163,13 @@ mod tests {
     fn a_grid_beyond_the_step_limit_is_refused() {
         let e = resolve(RunConfig { stop: Some(0.01), step: Some(1e-300), ..Default::default() }).unwrap_err();
         let e = e.to_string();
-        assert!(e.contains("communication steps, more than the limit of 100000000") && e.contains("--max-steps"), "{e}");
-        let at = |n: u64, max: Option<u64>| resolve(RunConfig { stop: Some(n as f64 * 1e-3), max_steps: max, ..Default::default() });
+        assert!(
+            e.contains("communication steps, more than the limit of 100000000") && e.contains("--max-steps"),
+            "{e}"
+        );
+        let at = |n: u64, max: Option<u64>| {
+            resolve(RunConfig { stop: Some(n as f64 * 1e-3), max_steps: max, ..Default::default() })
+        };
         assert_eq!(at(DEFAULT_MAX_STEPS / 1000, None).unwrap().n_steps, DEFAULT_MAX_STEPS / 1000);
         assert!(at(2000, Some(1999)).is_err());
         assert_eq!(at(2000, Some(2000)).unwrap().n_steps, 2000);
