@@ -136,6 +136,9 @@ fn wire(
     let mut routes = Vec::new();
     let mut edges = Vec::new();
     let mut driven = std::collections::HashSet::new();
+    // by name, not a search per connection: linear in the size of a (hostile) SSD
+    let by_name: std::collections::HashMap<&str, usize> =
+        names.iter().enumerate().map(|(i, n)| (n.as_str(), i)).collect();
     for conn in &desc.connections {
         let label = format!("connection {}", conn.label());
         let (Some(se), Some(ee)) = (&conn.start_element, &conn.end_element) else {
@@ -144,7 +147,7 @@ fn wire(
             )));
         };
         let find = |e: &str| {
-            names.iter().position(|n| n == e).ok_or_else(|| SetupError::UnknownComponent {
+            by_name.get(e).copied().ok_or_else(|| SetupError::UnknownComponent {
                 name: format!("{e}' in {label} '"),
                 known: names.join(", "),
             })
