@@ -7,7 +7,6 @@
 
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};
-use fmi::traits::FmiImport;
 use fmi_master::{Progress, Recorder, RunConfig, Simulation, SystemFile};
 use model_description::{Causality, ScalarType, Value};
 use tests::{fmu_dir, packaged};
@@ -29,7 +28,7 @@ const SYSTEMS: [&str; 7] = [
 /// Real output value references with their names.
 struct Comp {
     name: String,
-    inst: fmi::fmi2::instance::Instance<fmi::fmi2::instance::CS>,
+    inst: fmi::fmi2::instance::InstanceCS,
     md: model_description::ModelDescription,
     outputs: Vec<(String, u32)>,
     values: Vec<f64>,
@@ -86,7 +85,8 @@ fn through_rust_fmi(name: &str, sys: &SystemFile, h: f64) -> (Vec<String>, Vec<V
     for c in comps.iter_mut() {
         ok("exit initialization", c.inst.exit_initialization_mode());
     }
-    let index = |n: &str| comps.iter().position(|c| c.name == n).unwrap();
+    let names: Vec<String> = comps.iter().map(|c| c.name.clone()).collect();
+    let index = |n: &str| names.iter().position(|c| c == n).unwrap();
     let routes: Vec<(usize, u32, usize, u32, Option<ssp::Linear>)> = d
         .connections
         .iter()
