@@ -12,13 +12,17 @@ use seed000::closed_loop::AnyController;
 use seed000::fmu_validation::FmuLoop;
 use seed000::loop_frf;
 
-#[test]
-fn benchmark_designs_decay_below_and_grow_above_their_lobes_through_the_fmus() {
+/// The shipped `Benchmark.ssp` of `target/fmu` and the Ozsoy plant.
+fn benchmark_system() -> (SystemFile, milling_plant::PlantParams) {
     let dir = packaging::fmu_dir();
     let ssp = dir.join("Benchmark.ssp");
     assert!(ssp.is_file(), "no {}: run `cargo run --release -p packaging` first", ssp.display());
-    let sys = SystemFile::open(&ssp, Some(&dir)).unwrap();
-    let plant = loop_frf::ozsoy_plant();
+    (SystemFile::open(&ssp, Some(&dir)).unwrap(), loop_frf::ozsoy_plant())
+}
+
+#[test]
+fn benchmark_designs_decay_below_and_grow_above_their_lobes_through_the_fmus() {
+    let (sys, plant) = benchmark_system();
     let fl = FmuLoop::linear(&sys, &plant).unwrap();
     let speeds = speed_grid(1000.0, 3000.0, 41);
     let mut failures = Vec::new();
@@ -73,11 +77,7 @@ fn benchmark_designs_decay_below_and_grow_above_their_lobes_through_the_fmus() {
 /// test `seed000::benchmark::tests::dvf_actuator_limit_in_the_time_domain` gives 0.587 / 1.673).
 #[test]
 fn dvf_actuator_limit_through_the_fmus() {
-    let dir = packaging::fmu_dir();
-    let ssp = dir.join("Benchmark.ssp");
-    assert!(ssp.is_file(), "no {}: run `cargo run --release -p packaging` first", ssp.display());
-    let sys = SystemFile::open(&ssp, Some(&dir)).unwrap();
-    let plant = loop_frf::ozsoy_plant();
+    let (sys, plant) = benchmark_system();
     let fl = FmuLoop::linear(&sys, &plant).unwrap();
     let dp = benchmark::design_plant(&plant);
     let limit = benchmark_control::designs::dvf_gain_limit(
