@@ -34,7 +34,7 @@ from fmpy.ssp.simulation import simulate_ssp
 from test_cross_check import cosim, ssp_path
 
 STEPS = 200
-SYSTEMS = ["ClosedLoop.ssp", "ClosedLoopTable2.ssp", "DecomposedPlant.ssp", "Spindle.ssp", "ForceControl.ssp",
+SYSTEMS = ["ClosedLoop.ssp", "ClosedLoopTable2.ssp", "DecomposedPlant.ssp", "Spindle.ssp", "ForceControl.ssp", "Benchmark.ssp",
            "SlidingModeFuzzy.ssp", "Afrac.ssp"]
 LIBCOSIM_CANNOT = {
     "ForceControl.ssp": "its step (the FROH controller's sample period 0.6/143 s) is not a whole number of "
@@ -93,7 +93,14 @@ print(json.dumps(rows))
 """
 
 
-@pytest.mark.parametrize("name", SYSTEMS)
+# Measured, cause not found yet (issue 29's last session): libcosim's run of Benchmark.ssp differs
+# from ours in Jacobi order by 1.9e-6 relative on plant.x (FMPy's simulate_ssp and the FMPy loop of
+# test_cross_check agree with ours). strict: the test fails once they agree, so the mark goes.
+LIBCOSIM_DIFFERS = {"Benchmark.ssp": "plant.x differs from our master by 1.9e-6 relative; cause not yet found"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=LIBCOSIM_DIFFERS[n]))
+                                  if n in LIBCOSIM_DIFFERS else n for n in SYSTEMS])
 def test_every_shipped_ssp_runs_in_libcosim_like_ours(tmp_path, name):
     if sys.version_info[:2] != (3, 11):
         pytest.skip("libcosimpy 0.0.6 ships a CPython 3.11 wheel only (tests/python/requirements.txt)")
