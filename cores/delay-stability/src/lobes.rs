@@ -17,6 +17,7 @@
 //! callback after each.
 
 use crate::sd::{Bifurcation, Multiplier, critical_multiplier};
+use crate::search::Method;
 use crate::{PeriodicDde, StabilityError};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -49,8 +50,14 @@ pub struct Critical {
     pub value: Option<f64>,
     /// Critical multiplier on the unstable side.
     pub multiplier: Option<Multiplier>,
-    /// Number of monodromy matrices computed.
+    /// Number of monodromy matrices (or operators) computed.
     pub evaluations: usize,
+    /// The discretisation that gave the value (for [`crate::search::Method::Auto`]: the order
+    /// that converged).
+    pub method: Method,
+    /// [`crate::search::Method::Auto`]: the estimated relative error of the value (the shift to
+    /// the next order); otherwise `None`.
+    pub error: Option<f64>,
 }
 
 impl Critical {
@@ -84,7 +91,13 @@ pub fn critical_value<S: PeriodicDde>(
             break mu;
         }
         if hi >= o.max {
-            return Ok(Critical { value: None, multiplier: None, evaluations });
+            return Ok(Critical {
+                value: None,
+                multiplier: None,
+                evaluations,
+                method: Method::Sd { m: o.m },
+                error: None,
+            });
         }
         lo = hi;
         hi = (hi * o.growth).min(o.max);
@@ -99,7 +112,13 @@ pub fn critical_value<S: PeriodicDde>(
             at_hi = mu;
         }
     }
-    Ok(Critical { value: Some(0.5 * (lo + hi)), multiplier: Some(at_hi), evaluations })
+    Ok(Critical {
+        value: Some(0.5 * (lo + hi)),
+        multiplier: Some(at_hi),
+        evaluations,
+        method: Method::Sd { m: o.m },
+        error: None,
+    })
 }
 
 /// One point of a lobe diagram.
