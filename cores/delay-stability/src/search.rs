@@ -21,10 +21,13 @@
 //! [`Method::Auto`] runs the search with the spectral collocation ([`crate::spectral`]) at `N`
 //! nodes per element, then evaluates `ρ` at the boundary `a` with the next order
 //! `N' = N + max(4, N/2)`. The depth shift that `N'` implies, `|ln ρ_{N'}(a)| / (a · d ln ρ/da)`
-//! (the slope from the final bracket), is the error estimate of `a`; if it exceeds the tolerance
-//! the whole search is repeated at `N'` (scan included). Where no boundary was found below `max`,
-//! `ρ_{N'}(max) < 1` is required as well. The order that converged is the starting order of the
-//! next speed of the same block.
+//! (the slope from the final bracket), is the error estimate of `a`. It must be below `tol/3`,
+//! so that a convergence as slow as first order in `N` (a non-smooth coefficient the system did
+//! not declare as a breakpoint) is still within `tol`; otherwise the whole search is repeated at
+//! `N'`, scan included. The bracket is narrowed to `tol/30` if `rel_tol` is wider, so that it
+//! does not mask the estimate. Where no boundary was found below `max`, `ρ_{N'}(max) < 1` is
+//! required. The order that converged is the starting order of the next speed of the same
+//! block.
 //!
 //! # Speeds
 //!
@@ -309,6 +312,8 @@ fn critical_from<S: PeriodicDde>(
         };
         return Ok(search(build, o, ev)?.critical);
     };
+    // the error estimate cannot resolve less than the bracket: keep it well inside the tolerance
+    let o = &LobeOptions { rel_tol: o.rel_tol.min(tol / 30.0), ..*o };
     let mut total = 0;
     loop {
         let n = *order;
