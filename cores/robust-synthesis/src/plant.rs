@@ -359,6 +359,18 @@ pub fn close(p: &CMat, k: &CMat) -> Result<Loop, SynthError> {
     Ok(Loop { n, left, right })
 }
 
+/// `N` of [`close`] alone (the same operations, without the two factors of the gradient).
+pub fn close_n(p: &CMat, k: &CMat) -> Result<CMat, SynthError> {
+    let p11 = p.view((0, 0), (8, 8));
+    let p12 = p.view((0, 8), (8, 2));
+    let p21 = p.view((8, 0), (2, 8));
+    let p22 = p.view((8, 8), (2, 2));
+    let i2 = CMat::identity(2, 2);
+    let a = (&i2 - p22 * k).try_inverse().ok_or_else(|| SynthError::Singular("I − P₂₂K".into()))?;
+    let right = a * p21;
+    Ok(p11 + p12 * k * &right)
+}
+
 /// `σ̄(D N D⁻¹)` and its gradient in θ (module docs of [`crate::mu`]):
 /// `∂σ̄/∂K = (u* D P₁₂(I − KP₂₂)⁻¹)ᵀ ∘ ((I − P₂₂K)⁻¹P₂₁ D⁻¹ v)`, then through `K(iω)` to `K̂`.
 pub fn scaled_gain(
