@@ -17,7 +17,7 @@
 //! callback after each.
 
 use crate::sd::{Bifurcation, Multiplier, critical_multiplier};
-use crate::search::Method;
+use crate::spectral::SpectralOptions;
 use crate::{PeriodicDde, StabilityError};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -43,6 +43,30 @@ impl Default for BisectionOptions {
     }
 }
 
+/// The discretisation of the monodromy operator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// The spectral collocation with the order raised until the boundary moves by less than
+    /// `tol` (relative) to the next order ([`crate::search`] module docs).
+    Auto {
+        /// Relative tolerance of the critical value.
+        tol: f64,
+    },
+    /// The spectral collocation at a fixed order.
+    Spectral(SpectralOptions),
+    /// The first-order semi-discretisation with `m` intervals per period ([`crate::sd`]).
+    Sd {
+        /// Intervals per period.
+        m: usize,
+    },
+}
+
+impl Default for Method {
+    fn default() -> Self {
+        Method::Auto { tol: 1e-3 }
+    }
+}
+
 /// The boundary at one speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Critical {
@@ -52,11 +76,10 @@ pub struct Critical {
     pub multiplier: Option<Multiplier>,
     /// Number of monodromy matrices (or operators) computed.
     pub evaluations: usize,
-    /// The discretisation that gave the value (for [`crate::search::Method::Auto`]: the order
-    /// that converged).
+    /// The discretisation that gave the value (for [`Method::Auto`]: the order that converged).
     pub method: Method,
-    /// [`crate::search::Method::Auto`]: the estimated relative error of the value (the shift to
-    /// the next order); otherwise `None`.
+    /// [`Method::Auto`]: the estimated relative error of the value (the shift to the next
+    /// order); otherwise `None`.
     pub error: Option<f64>,
 }
 

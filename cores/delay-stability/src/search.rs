@@ -37,6 +37,7 @@
 //! scheduling.
 
 use crate::krylov::Krylov;
+pub use crate::lobes::Method;
 use crate::lobes::{BisectionOptions, Critical, LobePoint};
 use crate::sd::{Multiplier, SdOperator, critical_multiplier, eigenvalues_unshifted_first};
 use crate::spectral::{Spectral, SpectralOptions};
@@ -44,30 +45,6 @@ use crate::{PeriodicDde, StabilityError};
 use num_complex::Complex64;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// The discretisation of the monodromy operator.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Method {
-    /// The spectral collocation with the order raised until the boundary moves by less than
-    /// `tol` (relative) to the next order (module docs).
-    Auto {
-        /// Relative tolerance of the critical value.
-        tol: f64,
-    },
-    /// The spectral collocation at a fixed order.
-    Spectral(SpectralOptions),
-    /// The first-order semi-discretisation with `m` intervals per period ([`crate::sd`]).
-    Sd {
-        /// Intervals per period.
-        m: usize,
-    },
-}
-
-impl Default for Method {
-    fn default() -> Self {
-        Method::Auto { tol: 1e-3 }
-    }
-}
 
 /// Options of [`critical`] and [`lobes_with`]: the method and the scan (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
