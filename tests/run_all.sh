@@ -88,6 +88,6 @@ fi
 trap - EXIT
 tail -n 2 target/wheel-build.log
 python3 -m venv --clear target/wheel-venv
-target/wheel-venv/bin/python -m pip install --quiet --disable-pip-version-check target/wheels/chatter_fmu-*.whl pytest
+target/wheel-venv/bin/python -m pip install --quiet --disable-pip-version-check target/wheels/chatter_fmu-*.whl -r python/tests/requirements.txt
 FMU_DIR="$root/target/fmu" target/wheel-venv/bin/python -m pytest -q python/tests
 echo "all tests passed in $SECONDS s"

@@ -2,6 +2,8 @@
 and plan/run/collect its studies as independent cases, from Python.
 
     import chatter_fmu
+    m = chatter_fmu.Machine.from_file("studies/machine/examples/end_mill.toml")   # your own machine
+    lobes = m.lobes(points=60)                      # zero-order, multi-frequency, semi-discretisation
     sys = chatter_fmu.System("target/fmu/ClosedLoop.ssp")
     res = sys.simulate(stop_time=0.1, parameters={"plant.seed": 3}, record=["plant.x", "controller.u"])
     res["time"], res["plant.x"]          # numpy arrays
@@ -16,9 +18,9 @@ from typing import Dict, Iterable, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._native import ChatterError, System as _System, case_ids, collect, plan_main_job as _plan_main_job, run_cases
+from ._native import ChatterError, Machine as _Machine, System as _System, case_ids, collect, plan_main_job as _plan_main_job, run_cases
 
-__all__ = ["ChatterError", "System", "plan_main_job", "run_cases", "collect", "case_ids"]
+__all__ = ["ChatterError", "Machine", "System", "plan_main_job", "run_cases", "collect", "case_ids"]
 
 
 class System:
@@ -60,3 +62,85 @@ def plan_main_job(out: os.PathLike | str, fmu_dir: os.PathLike | str, seeds: Ite
     The same study as ``chatter plan main-job``."""
     return _plan_main_job(os.fspath(out), os.fspath(fmu_dir), list(seeds), [tuple(c) for c in cases], stop_time,
                           step, csv_interval, list(overrides), None if system is None else os.fspath(system))
+
+
+def _f64(b: bytes) -> np.ndarray:
+    return np.frombuffer(b, dtype=np.float64).copy()
+
+
+class Machine:
+    """A user's machine from a machine file (TOML, units on quantities; the docs' "Your own
+    machine"), with every analysis the ``chatter`` command runs on it. Lengths are in m and
+    speeds in rpm in the results; errors name the field and the fix (``ChatterError``)."""
+
+    def __init__(self, native):
+        self._native = native
+
+    @classmethod
+    def from_file(cls, path: os.PathLike | str) -> "Machine":
+        """Read a machine file."""
+        return cls(_Machine.from_file(os.fspath(path)))
+
+    @classmethod
+    def from_dict(cls, tables: dict, name: str = "<dict>") -> "Machine":
+        """A machine from a mapping with the machine file's tables, e.g.
+        ``{"version": 1, "tool": {"teeth": 3, "diameter": "12 mm"}, ...}``."""
+        import json
+        return cls(_Machine.from_json(json.dumps(tables), name))
+
+    def summary(self) -> str:
+        """What the file describes (modes, static stiffness, the cut), as ``chatter machine check``."""
+        return self._native.summary()
+
+    def lobes(self, points: int = 200, rpm: Optional[Tuple[float, float]] = None, sd_m: int = 40) -> Dict[str, object]:
+        """Open-loop lobes at ``points`` speeds over ``rpm`` (default: the file's range) by the
+        zero-order, multi-frequency and semi-discretisation (order ``sd_m``) methods: arrays
+        ``rpm``, ``zero_order``, ``multi_frequency``, ``sd`` (critical depths in m, inf where
+        stable), ``sd_kind`` (hopf/flip), and the ``report`` saying where they disagree."""
+        lo, hi = (None, None) if rpm is None else rpm
+        s, zo, mf, sd, kinds, report = self._native.lobes(points, lo, hi, sd_m)
+        return {"rpm": _f64(s), "zero_order": _f64(zo), "multi_frequency": _f64(mf), "sd": _f64(sd),
+                "sd_kind": np.array(kinds), "report": report}
+
+    def closed_loop_lobes(self, structure: Optional[str] = None, points: int = 200,
+                          rpm: Optional[Tuple[float, float]] = None) -> Dict[str, object]:
+        """Closed-loop lobes of the file's controller (or ``structure`` with the shipped gains):
+        ``rpm``, ``stability`` and ``saturation`` (the depth at which the cut's own force drives
+        the command to the actuator's limit), ``usable`` = their minimum, all in m."""
+        lo, hi = (None, None) if rpm is None else rpm
+        s, st, sat, label = self._native.closed_loop_lobes(structure, points, lo, hi)
+        st, sat = _f64(st), _f64(sat)
+        return {"rpm": _f64(s), "stability": st, "saturation": sat, "usable": np.minimum(st, sat), "label": label}
+
+    def validate(self, rpm: float, sd_m: int = 40) -> Dict[str, object]:
+        """The semi-discretisation boundary at ``rpm`` run through the FMUs at 0.97 and 1.03 of
+        it: ``boundary`` (m), ``kind``, the growth ratios ``below`` and ``above`` (< 1 decays)."""
+        b, kind, below, above = self._native.validate(rpm, sd_m)
+        return {"rpm": rpm, "boundary": b, "kind": kind, "below": below, "above": above,
+                "confirmed": below < 1.0 < above}
+
+    def simulate(self, rpm: float, depth_mm: float, stop_time: float = 0.2,
+                 record: Optional[Sequence[str]] = None) -> Dict[str, np.ndarray]:
+        """Run the machine's FMUs (MillingProcess + ModalStructure [+ actuator + controller]) at
+        ``rpm`` and ``depth_mm`` in the Rust master: ``{"time": …, "structure.tool_x": …}``."""
+        names, time, values = self._native.simulate(rpm, depth_mm * 1e-3, stop_time,
+                                                    None if record is None else list(record))
+        t = _f64(time)
+        v = _f64(values).reshape(len(t), len(names)) if names else np.empty((len(t), 0))
+        out = {"time": t}
+        for i, n in enumerate(names):
+            out[n] = v[:, i].copy()
+        return out
+
+    def tune(self, structures: Sequence[str] = ("pid", "fopid", "adrc_fopid"), runs: int = 10,
+             particles: int = 40, iterations: int = 60, seed: int = 1) -> Dict[str, Dict[str, object]]:
+        """Tune each controller structure for this machine (``chatter tune --machine``): per
+        structure its ``gains``, closed-loop ``b_min`` (m) at ``rpm``, the fresh-seed saturation
+        check ``fresh_passed`` (of 10) and the ``ssv`` parameter set for ChatterController."""
+        res = self._native.tune(list(structures), runs, particles, iterations, seed)
+        return {s: {"gains": np.array(g), "b_min": b, "rpm": r, "fresh_passed": p, "ssv": ssv}
+                for (s, g, b, r, p, ssv) in res}
+
+    def write_ssp(self, path: os.PathLike | str, rpm: float, depth_mm: float, stop_time: float = 1.0) -> None:
+        """Write the machine's system as an SSP (refused if the file exists)."""
+        self._native.write_ssp(os.fspath(path), rpm, depth_mm * 1e-3, stop_time)

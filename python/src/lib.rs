@@ -172,11 +172,230 @@ fn collect(py: Python<'_>, dir: PathBuf) -> PyResult<String> {
         .map_err(ChatterError::new_err)
 }
 
+/// Speeds, stability and saturation-limited depths (bytes of f64) and the controller's label.
+type ClosedLobes<'py> = (Bound<'py, PyBytes>, Bound<'py, PyBytes>, Bound<'py, PyBytes>, String);
+
+/// A user's machine from a machine file (`machine::Machine`).
+#[pyclass(module = "chatter_fmu._native")]
+struct Machine {
+    m: machine::Machine,
+}
+
+/// A JSON value as TOML (a machine given as a Python dict).
+fn toml_of(v: &serde_json::Value) -> PyResult<toml::Value> {
+    use serde_json::Value as J;
+    Ok(match v {
+        J::Bool(b) => toml::Value::Boolean(*b),
+        J::Number(n) => match n.as_i64() {
+            Some(i) => toml::Value::Integer(i),
+            None => toml::Value::Float(n.as_f64().unwrap_or(f64::NAN)),
+        },
+        J::String(s) => toml::Value::String(s.clone()),
+        J::Array(a) => toml::Value::Array(a.iter().map(toml_of).collect::<PyResult<_>>()?),
+        J::Object(o) => {
+            toml::Value::Table(o.iter().map(|(k, v)| Ok((k.clone(), toml_of(v)?))).collect::<PyResult<_>>()?)
+        }
+        J::Null => return Err(ChatterError::new_err("a machine has no null values")),
+    })
+}
+
+/// Numbers as native-endian f64 bytes (the Python wrapper makes numpy arrays of them).
+fn f64_bytes<'py>(py: Python<'py>, v: impl IntoIterator<Item = f64>) -> Bound<'py, PyBytes> {
+    let b: Vec<u8> = v.into_iter().flat_map(f64::to_ne_bytes).collect();
+    PyBytes::new(py, &b)
+}
+
+#[pymethods]
+impl Machine {
+    /// Read a machine file (TOML).
+    #[staticmethod]
+    fn from_file(path: PathBuf) -> PyResult<Machine> {
+        Ok(Machine { m: machine::Machine::from_file(&path).map_err(err)? })
+    }
+
+    /// A machine from the JSON text of a mapping with the machine file's tables.
+    #[staticmethod]
+    fn from_json(text: &str, name: &str) -> PyResult<Machine> {
+        let v: serde_json::Value = serde_json::from_str(text).map_err(err)?;
+        let toml::Value::Table(t) = toml_of(&v)? else { return Err(ChatterError::new_err("a machine is a mapping")) };
+        Ok(Machine { m: machine::Machine::from_table(&t, name).map_err(err)? })
+    }
+
+    /// What the file describes (the `chatter machine check` text).
+    fn summary(&self) -> String {
+        machine::workflow::summary(&self.m)
+    }
+
+    /// The speed range of the file \[rpm\].
+    fn speed_range(&self) -> (f64, f64) {
+        self.m.operation.speed_range_rpm
+    }
+
+    /// Open-loop lobes at `points` speeds over `(rpm_min, rpm_max)`: speeds and the zero-order,
+    /// multi-frequency and semi-discretisation depths \[m\] as bytes, the SD's kind per speed,
+    /// and the report.
+    #[pyo3(signature = (points=200, rpm_min=None, rpm_max=None, sd_m=40))]
+    #[allow(clippy::type_complexity)]
+    fn lobes<'py>(
+        &self,
+        py: Python<'py>,
+        points: usize,
+        rpm_min: Option<f64>,
+        rpm_max: Option<f64>,
+        sd_m: usize,
+    ) -> PyResult<(
+        Bound<'py, PyBytes>,
+        Bound<'py, PyBytes>,
+        Bound<'py, PyBytes>,
+        Bound<'py, PyBytes>,
+        Vec<String>,
+        String,
+    )> {
+        let (lo, hi) = self.m.operation.speed_range_rpm;
+        let speeds = machine::workflow::speeds(rpm_min.unwrap_or(lo), rpm_max.unwrap_or(hi), points.max(2));
+        let m = &self.m;
+        let l = py
+            .detach(|| machine::lobes::MachineLobes::compute(m, &speeds, sd_m, &|_, _| {}).map_err(|e| e.to_string()))
+            .map_err(ChatterError::new_err)?;
+        let kinds = l.sd.iter().map(|p| p.critical.kind().map_or("none", |k| k.name()).to_string()).collect();
+        Ok((
+            f64_bytes(py, speeds.iter().copied()),
+            f64_bytes(py, l.zero_order.iter().map(|p| p.depth)),
+            f64_bytes(py, l.multi_frequency.iter().map(|p| p.depth)),
+            f64_bytes(py, (0..speeds.len()).map(|i| l.sd_depth(i))),
+            kinds,
+            l.report(m),
+        ))
+    }
+
+    /// Closed-loop lobes of the file's controller (or of `structure` with the shipped gains) at
+    /// `points` speeds: speeds, stability and saturation-limited depths \[m\] as bytes, the
+    /// label.
+    #[pyo3(signature = (structure=None, points=200, rpm_min=None, rpm_max=None))]
+    fn closed_loop_lobes<'py>(
+        &self,
+        py: Python<'py>,
+        structure: Option<String>,
+        points: usize,
+        rpm_min: Option<f64>,
+        rpm_max: Option<f64>,
+    ) -> PyResult<ClosedLobes<'py>> {
+        let m = &self.m;
+        let (lo, hi) = m.operation.speed_range_rpm;
+        let speeds = machine::workflow::speeds(rpm_min.unwrap_or(lo), rpm_max.unwrap_or(hi), points.max(2));
+        let name = match structure.or_else(|| m.controller.as_ref().map(|c| c.structure.clone())) {
+            Some(s) => s,
+            None => return Err(ChatterError::new_err("the machine file has no [controller]: give structure=...")),
+        };
+        let (label, c) = machine::workflow::controller_for(m, &name)
+            .map_err(err)?
+            .ok_or_else(|| ChatterError::new_err("structure off: no closed loop"))?;
+        let pts = py
+            .detach(|| machine::closed::closed_loop_lobes(m, &c, &speeds, None).map_err(|e| e.to_string()))
+            .map_err(ChatterError::new_err)?;
+        Ok((
+            f64_bytes(py, pts.iter().map(|p| p.rpm)),
+            f64_bytes(py, pts.iter().map(|p| p.stability)),
+            f64_bytes(py, pts.iter().map(|p| p.saturation)),
+            label,
+        ))
+    }
+
+    /// The semi-discretisation boundary at `rpm` checked through the FMUs: (boundary \[m\],
+    /// kind, growth ratio at 0.97, growth ratio at 1.03); an error if stable up to 100 mm.
+    #[pyo3(signature = (rpm, sd_m=40))]
+    fn validate(&self, py: Python<'_>, rpm: f64, sd_m: usize) -> PyResult<(f64, String, f64, f64)> {
+        let m = &self.m;
+        let v = py
+            .detach(|| machine::workflow::validate(m, rpm, sd_m).map_err(|e| e.to_string()))
+            .map_err(ChatterError::new_err)?;
+        let v =
+            v.ok_or_else(|| ChatterError::new_err(format!("{rpm} rpm: stable up to 100 mm: nothing to validate")))?;
+        Ok((v.boundary, v.kind.map_or("none", |k| k.name()).to_string(), v.below.ratio, v.above.ratio))
+    }
+
+    /// Run the machine's FMUs at `rpm` and `depth` \[m\] for `stop_time` seconds in the Rust
+    /// master: `(names, time, values)` like `System.simulate`.
+    #[pyo3(signature = (rpm, depth, stop_time, record=None))]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        rpm: f64,
+        depth: f64,
+        stop_time: f64,
+        record: Option<Vec<String>>,
+    ) -> PyResult<(Vec<String>, Bound<'py, PyBytes>, Bound<'py, PyBytes>)> {
+        let m = &self.m;
+        let rec = py
+            .detach(|| {
+                m.simulate(&machine::workflow::fmu_dir(), rpm, depth, stop_time, record).map_err(|e| e.to_string())
+            })
+            .map_err(ChatterError::new_err)?;
+        Ok((
+            rec.names.clone(),
+            f64_bytes(py, rec.time.iter().copied()),
+            f64_bytes(py, rec.rows.iter().flatten().copied()),
+        ))
+    }
+
+    /// Tune `structures` on the machine (`chatter tune --machine`): per structure
+    /// `(structure, gains, closed-loop b_min [m], its speed [rpm], fresh seeds passed of 10,
+    /// the SSV parameter set)`.
+    #[pyo3(signature = (structures=vec!["pid".to_string(), "fopid".to_string(), "adrc_fopid".to_string()], runs=10, particles=40, iterations=60, seed=1))]
+    #[allow(clippy::type_complexity)]
+    fn tune(
+        &self,
+        py: Python<'_>,
+        structures: Vec<String>,
+        runs: usize,
+        particles: usize,
+        iterations: usize,
+        seed: u64,
+    ) -> PyResult<Vec<(String, Vec<f64>, f64, f64, usize, String)>> {
+        let structures =
+            structures.iter().map(|s| machine::workflow::structure(s)).collect::<Result<Vec<_>, _>>().map_err(err)?;
+        let o = machine::tune::TuneOptions {
+            structures,
+            runs,
+            seed,
+            pso: study_kit::optim::pso::PsoConfig { particles, iterations, ..Default::default() },
+            ..Default::default()
+        };
+        let m = &self.m;
+        let res = py.detach(|| machine::tune::tune(m, &o, &|_, _, _| {})).map_err(ChatterError::new_err)?;
+        res.iter()
+            .map(|r| {
+                let name = machine::workflow::structure_name(r.structure).to_string();
+                let ssv = machine::tune::controller_ssv(&format!("tuned_{name}"), &r.best.params)
+                    .map_err(ChatterError::new_err)?;
+                Ok((
+                    name,
+                    r.best.gains.clone(),
+                    r.best.breakdown.b_min_mm * 1e-3,
+                    r.best.breakdown.rpm_at_min,
+                    r.fresh.passed,
+                    ssv,
+                ))
+            })
+            .collect()
+    }
+
+    /// Write the machine's SSP at `rpm` and `depth` \[m\] (refused if `path` exists).
+    #[pyo3(signature = (path, rpm, depth, stop_time=1.0))]
+    fn write_ssp(&self, path: PathBuf, rpm: f64, depth: f64, stop_time: f64) -> PyResult<()> {
+        if path.exists() {
+            return Err(ChatterError::new_err(format!("{} exists: nothing is overwritten", path.display())));
+        }
+        self.m.write_ssp(&path, &machine::workflow::fmu_dir(), rpm, depth, stop_time).map_err(err)
+    }
+}
+
 /// The module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ChatterError", m.py().get_type::<ChatterError>())?;
     m.add_class::<System>()?;
+    m.add_class::<Machine>()?;
     m.add_function(wrap_pyfunction!(plan_main_job, m)?)?;
     m.add_function(wrap_pyfunction!(case_ids, m)?)?;
     m.add_function(wrap_pyfunction!(run_cases, m)?)?;

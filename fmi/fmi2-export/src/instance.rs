@@ -588,7 +588,9 @@ impl<M: Fmi2Model> Instance<M> {
             if lo.is_some_and(|lo| x < lo) || hi.is_some_and(|hi| x > hi) {
                 let hint = v
                     .unit()
-                    .and_then(|u| model_description::units::slip_hint(u, x, lo.unwrap_or(f64::MIN), hi.unwrap_or(f64::MAX)))
+                    .and_then(|u| {
+                        model_description::units::slip_hint(u, x, lo.unwrap_or(f64::MIN), hi.unwrap_or(f64::MAX))
+                    })
                     .map_or(String::new(), |h| format!("; {h}"));
                 return Err(CallError::error(format!(
                     "{call}: value {x} for \"{}\" is outside [{}, {}]{hint}",

@@ -218,6 +218,9 @@ pub fn lobes(a: &LobesArgs) -> Result<()> {
     }
     check_range(a)?;
     let (plant, base) = machine(a)?;
+    println!(
+        "MillingPlant's model: the workpiece bends along one direction (zero-order lobes of that direction). For a machine with modes in x and y, use `chatter lobes --machine FILE`."
+    );
     let rpm = speed_grid(a.rpm_min.unwrap_or(RPM_MIN), a.rpm_max.unwrap_or(RPM_MAX), a.points.unwrap_or(POINTS));
     let mut series = Vec::new();
     for name in &controller_names(a) {

@@ -2,17 +2,15 @@
 //! FILE`: a user's own machine from its machine file (the `machine` crate).
 
 use anyhow::{Context, Result, ensure};
-use chatter_control::{ControllerParams, Structure};
 use clap::{Args, Subcommand};
 use delay_stability::frequency::CriticalPoint;
 use delay_stability::zero_order::speed_grid;
-use delay_stability::{BisectionOptions, critical_value};
 use indicatif::{ProgressBar, ProgressStyle};
 use machine::Machine;
 use machine::closed::{ClosedPoint, Limit, closed_loop_lobes};
-use machine::fmus::FmuCheck;
 use machine::lobes::{MachineLobes, Method};
 use machine::tune::{MachinePlant, TuneOptions, controller_ssv, open_loop_minimum};
+use machine::workflow::{controller_for, summary, validate};
 use seed000::tuning::SaturationCheck;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -90,65 +88,6 @@ pub fn machine(cmd: &MachineCmd) -> Result<()> {
     }
 }
 
-/// What the machine file describes, as a reader would check it.
-pub fn summary(m: &Machine) -> String {
-    let mut s = format!("{}: {} teeth, D = {} mm", m.name, m.tool.teeth, m.tool.diameter * 1e3);
-    if let Some(p) = &m.tool.pitch {
-        let deg: Vec<String> = p.iter().map(|a| format!("{:.1}", a.to_degrees())).collect();
-        let _ = write!(s, ", variable pitch [{}] deg", deg.join(", "));
-    }
-    let _ = writeln!(s, "\n\n| mode | f (Hz) | ζ | k (N/m) | m (kg) | shape (x, y) |\n|---|---|---|---|---|---|");
-    for md in &m.modes {
-        let _ = writeln!(
-            s,
-            "| {} | {:.1} | {:.4} | {:.3e} | {:.4} | ({:.3}, {:.3}) |",
-            md.label,
-            md.frequency_hz,
-            md.damping,
-            md.stiffness,
-            md.mass(),
-            md.shape[0],
-            md.shape[1]
-        );
-    }
-    let c = m.static_compliance();
-    let _ = writeln!(s, "\nstatic stiffness: x {:.3e} N/m, y {:.3e} N/m", 1.0 / c[0][0], 1.0 / c[1][1]);
-    let (e, x) = m.engagement();
-    let law = match m.material.law {
-        machine::machine::Law::Linear => "linear".to_string(),
-        machine::machine::Law::Power { x_f } => format!("power, x_F = {x_f}"),
-    };
-    let _ = writeln!(
-        s,
-        "cut: a_e/D = {}, {:?}-milling (engaged {:.1}°–{:.1}°), f_z = {} mm, K_t = {} N/mm², K_r = {} N/mm² ({law})",
-        m.operation.immersion,
-        m.operation.milling,
-        e.to_degrees(),
-        x.to_degrees(),
-        m.operation.feed_per_tooth * 1e3,
-        m.material.kt * 1e-6,
-        m.material.kr * 1e-6
-    );
-    let _ = writeln!(s, "lobes over {:.0}–{:.0} rpm", m.operation.speed_range_rpm.0, m.operation.speed_range_rpm.1);
-    if let Some(a) = &m.actuator {
-        let _ = writeln!(
-            s,
-            "actuator on {}: {:.2} Hz, ζ = {:.3}, ±{} N",
-            a.axis.name(),
-            a.frequency_hz,
-            a.damping,
-            a.force_limit
-        );
-    }
-    if let Some(c) = &m.controller {
-        let _ = writeln!(s, "controller: {}", c.structure);
-    }
-    for w in &m.warnings {
-        let _ = writeln!(s, "warning: {w}");
-    }
-    s
-}
-
 /// The options of `chatter lobes --machine`.
 #[derive(Args, Clone)]
 pub struct MachineLobeOptions {
@@ -159,25 +98,6 @@ pub struct MachineLobeOptions {
     /// the FMUs (decay at 0.97, growth at 1.03 of it).
     #[arg(long, value_delimiter = ',')]
     pub validate_rpm: Vec<f64>,
-}
-
-/// The controller parameters to draw for a structure name on machine `m`: the file's controller
-/// if it has this structure, else the shipped defaults; the command limit is the actuator's.
-fn controller_for(m: &Machine, name: &str) -> Result<Option<(String, ControllerParams)>> {
-    let s = crate::common::structure_by_name(name)?;
-    if s == Structure::Off {
-        return Ok(None);
-    }
-    let a = m.actuator.as_ref().with_context(|| format!("--controllers {name}: the machine file has no [actuator]"))?;
-    if let Some(c) = m.controller_params()?
-        && c.structure == s
-    {
-        return Ok(Some((format!("{name} (machine file)"), c)));
-    }
-    Ok(Some((
-        format!("{name} (shipped defaults)"),
-        ControllerParams { structure: s, u_max: a.force_limit, ..ControllerParams::tuned() },
-    )))
 }
 
 fn progress(n: usize, what: &str) -> ProgressBar {
@@ -275,7 +195,10 @@ pub fn lobes(
         800,
     )?;
     for &rpm in &o.validate_rpm {
-        validate(&m, rpm, o.sd_m)?;
+        match validate(&m, rpm, o.sd_m)? {
+            Some(v) => println!("{}", v.line()),
+            None => println!("{rpm:.0} rpm: stable up to 100 mm by semi-discretisation: nothing to validate"),
+        }
     }
     let closed = if controllers.iter().any(|c| c != "off") {
         format!(", {}", out.join("closed_loop.csv").display())
@@ -313,33 +236,6 @@ fn report_closed(label: &str, pts: &[ClosedPoint], fresh_passed: usize, method: 
             10 - fresh_passed
         );
     }
-}
-
-/// The semi-discretisation boundary at `rpm`, checked through the FMUs.
-fn validate(m: &Machine, rpm: f64, sd_m: usize) -> Result<()> {
-    let model = m.sd_model()?;
-    let o = BisectionOptions { m: sd_m, start: 1e-5, growth: 1.1, max: 0.1, rel_tol: 1e-4 };
-    let c = critical_value(|a| model.at(rpm, a), &o)?;
-    let Some(b) = c.value else {
-        println!("{rpm:.0} rpm: stable up to {} mm by semi-discretisation: nothing to validate", o.max * 1e3);
-        return Ok(());
-    };
-    let check = FmuCheck::new(m, &packaging::fmu_dir(), None);
-    let duration = (200.0 * 60.0 / (rpm * m.tool.teeth as f64)).clamp(0.3, 1.0);
-    let below = check.growth(rpm, 0.97 * b, duration)?;
-    let above = check.growth(rpm, 1.03 * b, duration)?;
-    let ok = below.ratio < 1.0 && above.ratio > 1.0;
-    println!(
-        "validate {rpm:.0} rpm through the FMUs: SD boundary {:.3} mm ({}); at 0.97× growth ratio {:.3} ({}), at 1.03× {:.3} ({}): {}",
-        b * 1e3,
-        c.kind().map_or("?", |k| k.name()),
-        below.ratio,
-        if below.ratio < 1.0 { "decays" } else { "grows" },
-        above.ratio,
-        if above.ratio > 1.0 { "grows" } else { "decays" },
-        if ok { "confirmed" } else { "NOT CONFIRMED" }
-    );
-    Ok(())
 }
 
 /// `chatter tune --machine FILE`: each structure tuned by PSO on the machine; SSV parameter sets.

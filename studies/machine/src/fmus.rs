@@ -330,6 +330,46 @@ impl Machine {
     }
 }
 
+impl Machine {
+    /// The machine's system at `rpm` and `depth` \[m\] for `duration` seconds (a whole number of
+    /// its steps) with the FMUs of `fmu_dir`, ready for the Rust master; and its step.
+    pub fn system_file(
+        &self,
+        fmu_dir: &Path,
+        rpm: f64,
+        depth: f64,
+        duration: f64,
+        controller: Option<&ControllerParams>,
+    ) -> Result<(SystemFile, MachineFmus, f64), ModelError> {
+        let fmus = self.fmu_parameters(rpm, depth, controller)?;
+        let duration = (duration / fmus.step).round().max(1.0) * fmus.step;
+        let desc = fmus.system("machine", "time-domain run", duration)?;
+        let xml = desc.to_xml().map_err(|e| ModelError::Unsupported(e.to_string()))?;
+        let sys = SystemFile::from_text(&xml, &format!("{} (machine)", self.name), fmu_dir)
+            .map_err(|e| ModelError::Unsupported(e.to_string()))?;
+        Ok((sys, fmus, duration))
+    }
+
+    /// Run the machine's system (the file's controller) at `rpm` and `depth` \[m\] for `stop`
+    /// seconds in the Rust master, recording `record` (default: every output).
+    pub fn simulate(
+        &self,
+        fmu_dir: &Path,
+        rpm: f64,
+        depth: f64,
+        stop: f64,
+        record: Option<Vec<String>>,
+    ) -> Result<fmi_master::Recorder, ModelError> {
+        let (sys, fmus, stop) = self.system_file(fmu_dir, rpm, depth, stop, None)?;
+        let cfg =
+            RunConfig { start: Some(0.0), stop: Some(stop), step: Some(fmus.step), record, ..RunConfig::default() };
+        let mut sim = Simulation::new(&sys, &cfg).map_err(|e| ModelError::Unsupported(e.to_string()))?;
+        let mut rec = fmi_master::Recorder::default();
+        sim.run(&mut rec, Progress::Off).map_err(|e| ModelError::Unsupported(e.to_string()))?;
+        Ok(rec)
+    }
+}
+
 /// The time-domain check of a machine through its FMUs in the Rust master.
 pub struct FmuCheck<'a> {
     machine: &'a Machine,
@@ -363,13 +403,8 @@ impl<'a> FmuCheck<'a> {
     /// feed per tooth after the start-up (the teeth leave the cut: the motion grew out of the
     /// linear regime into a limit cycle, whose late/mid ratio is about 1) counts as growth.
     pub fn growth(&self, rpm: f64, depth: f64, duration: f64) -> Result<Growth, ModelError> {
-        let fmus = self.machine.fmu_parameters(rpm, depth, self.controller.as_ref())?;
-        // a whole number of steps
-        let duration = (duration / fmus.step).round().max(1.0) * fmus.step;
-        let desc = fmus.system("check", "time-domain check", duration)?;
-        let xml = desc.to_xml().map_err(|e| ModelError::Unsupported(e.to_string()))?;
-        let sys = SystemFile::from_text(&xml, &format!("{} (machine)", self.machine.name), &self.fmu_dir)
-            .map_err(|e| ModelError::Unsupported(e.to_string()))?;
+        let (sys, fmus, duration) =
+            self.machine.system_file(&self.fmu_dir, rpm, depth, duration, self.controller.as_ref())?;
         let mut record = vec!["structure.tool_x".to_string(), "structure.tool_y".to_string()];
         if fmus.control.is_some() {
             record.push("controller.saturated".into());

@@ -14,6 +14,7 @@
 //! | [`lobes`] | open-loop lobes by zero-order, multi-frequency and semi-discretisation, where they disagree and which to trust |
 //! | [`closed`] | closed-loop lobes of a controller on the machine, with the saturation-limited depth |
 //! | [`tune`] | the seed's PSO tuning on the machine: its closed loop, its saturation check, the SSV of the result |
+//! | [`workflow`] | the workflow as functions the `chatter` command and the Python package both call: summary, controller choice, validation through the FMUs |
 //! | [`fmus`] | the machine as FMUs: parameter sets, its SSP, the time-domain check through the FMUs |
 
 pub mod closed;
@@ -25,6 +26,7 @@ mod parse;
 pub mod read;
 pub mod tune;
 pub mod units;
+pub mod workflow;
 
 pub use machine::Machine;
 pub use read::MachineError;

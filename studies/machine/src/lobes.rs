@@ -240,10 +240,10 @@ impl MachineLobes {
                     .any(|x| x.method == method && (x.ratio > 1.0) == unsafe_side && x.kind == Some(Bifurcation::Flip));
                 let _ = writeln!(
                     s,
-                    "\n{}: {} than semi-discretisation by more than {:.0} % at {}{}. {}",
+                    "\n{} lies more than {:.0} % {} the semi-discretisation at {}{}. {}",
                     method.name(),
-                    if unsafe_side { "ABOVE (unsafe: claims a deeper stable cut)" } else { "below (conservative)" },
                     TOLERANCE * 100.0,
+                    if unsafe_side { "ABOVE (unsafe: it claims a deeper stable cut)" } else { "below (conservative)" },
                     runs.join(", "),
                     if flips { " (flip lobes there)" } else { "" },
                     if unsafe_side {

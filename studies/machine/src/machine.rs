@@ -258,3 +258,78 @@ impl Machine {
         c
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = include_str!("../examples/end_mill.toml");
+
+    fn err(text: &str) -> String {
+        Machine::from_toml(text, "m.toml").unwrap_err().to_string()
+    }
+
+    #[test]
+    fn the_example_reads_in_si() {
+        let m = Machine::from_toml(GOOD, "end_mill.toml").unwrap();
+        assert_eq!((m.tool.teeth, m.modes.len()), (3, 3));
+        assert!((m.tool.diameter - 0.012).abs() < 1e-15 && (m.material.kt - 8e8).abs() < 1e-3);
+        assert!((m.material.kr - 0.3 * 8e8).abs() < 1e-3 && (m.operation.feed_per_tooth - 5e-5).abs() < 1e-18);
+        assert_eq!(m.operation.spindle_speed_rpm.map(|r| r.round()), Some(10000.0));
+        assert!(m.modes[2].shape[0].abs() < 1e-15 && (m.modes[2].shape[1] - 1.0).abs() < 1e-15);
+        assert!(m.warnings.is_empty());
+        assert_eq!(m.engagement(), (0.0, PI));
+    }
+
+    /// Each bad file gives one error naming the field and the fix.
+    #[test]
+    fn bad_files_name_the_field_and_the_fix() {
+        let cases = [
+            (GOOD.replace("teeth = 3\n", ""), "m.toml: tool.teeth: missing: the number of teeth (add `teeth = ...`)"),
+            (GOOD.replace("diameter =", "diamter ="), "m.toml: tool.diamter: unknown key; did you mean `diameter`?"),
+            (GOOD.replace("\"800 N/mm^2\"", "\"800 mm\""), "\"800 mm\" is a length, but K_t is a pressure"),
+            (GOOD.replace("\"800 N/mm^2\"", "800"), "did you mean \"800 N/mm^2\" (= 8e8 N/m^2)?"),
+            (
+                GOOD.replace("damping = 0.03,", "damping = -0.03,"),
+                "structure.x[0].damping: a damping ratio = -0.03 must be positive",
+            ),
+            (GOOD.replace("damping = 0.03,", "damping = 3,"), "did you mean \"3 %\" (= 0.03 (ratio))?"),
+            (GOOD.replace("\"2 mm\"", "3"), "operation.axial_depth: the axial depth = 3 m is 2e1 times above"),
+            (GOOD.replace("\"600 Hz\"", "\"600 1/s\""), "a frequency in 1/s is ambiguous"),
+            (GOOD.replace("version = 1", "version = 2"), "schema version 2 is not known"),
+            (
+                GOOD.replace("immersion = 1.0", "immersion = 1.5"),
+                "operation.immersion: the radial immersion a_e/D must be a number in (0, 1]",
+            ),
+            (
+                GOOD.replace("[actuator]\naxis = \"x\"", "[actuator]\naxis = \"z\""),
+                "actuator.axis: \"z\" is not one of x, y",
+            ),
+            (GOOD.replace("\"2e7 N/m\" },", "\"2e7 N/m\", mass = 1 },"), "give either stiffness or mass, not both"),
+            ("version = 1\n[tool".to_string(), "m.toml: not valid TOML"),
+        ];
+        for (text, want) in cases {
+            let e = err(&text);
+            assert!(e.contains(want), "want {want:?} in {e:?}");
+            assert_eq!(e.lines().count(), 1, "{e}");
+        }
+    }
+
+    #[test]
+    fn helix_and_pitch_are_read_and_said() {
+        let text = GOOD.replace(
+            "diameter = \"12 mm\"",
+            "diameter = \"12 mm\"\nhelix = \"30 deg\"\npitch = [\"0 deg\", \"115 deg\", \"240 deg\"]",
+        );
+        let m = Machine::from_toml(&text, "m.toml").unwrap();
+        assert!(m.warnings[0].contains("helix = 30.0 deg is not modelled"));
+        assert_eq!(m.tool.pitch.as_ref().map(Vec::len), Some(3));
+        let uniform =
+            GOOD.replace("diameter = \"12 mm\"", "diameter = \"12 mm\"\npitch = [\"0 deg\", \"120 deg\", \"240 deg\"]");
+        assert_eq!(Machine::from_toml(&uniform, "m.toml").unwrap().tool.pitch, None);
+        assert!(
+            err(&GOOD.replace("diameter = \"12 mm\"", "diameter = \"12 mm\"\npitch = [\"0 deg\", \"120 deg\"]"))
+                .contains("2 angles for 3 teeth")
+        );
+    }
+}

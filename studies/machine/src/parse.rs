@@ -151,6 +151,7 @@ impl Machine {
     /// Read a machine from a parsed TOML table.
     pub fn from_table(table: &toml::Table, file: &str) -> Result<Machine, MachineError> {
         let root = Node::root(file, table);
+        root.finish(&["version", "name", "tool", "structure", "material", "operation", "actuator", "controller"])?;
         let version =
             root.integer("version", (0, i64::MAX))?.ok_or_else(|| root.missing("version", "the schema version (1)"))?;
         if version != VERSION {
@@ -168,13 +169,13 @@ impl Machine {
         if controller.as_ref().is_some_and(|c| c.structure != "off") && actuator.is_none() {
             return Err(root.err("controller", "a controller needs an [actuator] table (its axis and force limit)"));
         }
-        root.finish(&["version", "name", "tool", "structure", "material", "operation", "actuator", "controller"])?;
         Ok(Machine { name, tool, modes, material, operation, actuator, controller, warnings })
     }
 }
 
 pub(crate) fn read_tool(root: &Node<'_>, warnings: &mut Vec<String>) -> Result<Tool, MachineError> {
     let t = root.table("tool")?.ok_or_else(|| root.missing("tool", "the cutter ([tool] with teeth and diameter)"))?;
+    t.finish(&["teeth", "diameter", "pitch", "helix"])?;
     let teeth = t.integer("teeth", (1, 100))?.ok_or_else(|| t.missing("teeth", "the number of teeth"))? as u32;
     let diameter =
         t.quantity("diameter", &DIAMETER)?.ok_or_else(|| t.missing("diameter", "the tool diameter, e.g. \"12 mm\""))?;
@@ -207,11 +208,11 @@ pub(crate) fn read_tool(root: &Node<'_>, warnings: &mut Vec<String>) -> Result<T
             helix.to_degrees()
         ));
     }
-    t.finish(&["teeth", "diameter", "pitch", "helix"])?;
     Ok(Tool { teeth, diameter, pitch, helix })
 }
 
 fn read_mode(n: &Node<'_>, label: String, shape: Option<[f64; 2]>) -> Result<Mode, MachineError> {
+    n.finish(&["frequency", "damping", "stiffness", "mass", "shape"])?;
     let omega = n
         .quantity("frequency", &FREQ)?
         .ok_or_else(|| n.missing("frequency", "the natural frequency, e.g. \"600 Hz\""))?;
@@ -258,7 +259,6 @@ fn read_mode(n: &Node<'_>, label: String, shape: Option<[f64; 2]>) -> Result<Mod
         (Some(_), Some(_)) => return Err(n.err("mass", "give either stiffness or mass, not both")),
         (None, None) => return Err(n.missing("stiffness", "the modal stiffness (e.g. \"2e7 N/m\") or the modal mass")),
     };
-    n.finish(&["frequency", "damping", "stiffness", "mass", "shape"])?;
     Ok(Mode { label, frequency_hz: omega / (2.0 * PI), damping, stiffness, shape })
 }
 
@@ -266,6 +266,7 @@ pub(crate) fn read_modes(root: &Node<'_>) -> Result<Vec<Mode>, MachineError> {
     let s = root
         .table("structure")?
         .ok_or_else(|| root.missing("structure", "the modes ([structure] with x = [...] and y = [...])"))?;
+    s.finish(&["x", "y", "modes"])?;
     let mut modes = Vec::new();
     for (key, shape) in [("x", Some(Axis::X.unit())), ("y", Some(Axis::Y.unit())), ("modes", None)] {
         for (i, n) in s.tables(key)?.iter().enumerate() {
@@ -275,7 +276,6 @@ pub(crate) fn read_modes(root: &Node<'_>) -> Result<Vec<Mode>, MachineError> {
     if s.has("frf") {
         return Err(s.err("frf", "measured FRFs are read by `chatter frf` (fit them to modes first); this version of the machine file takes modes"));
     }
-    s.finish(&["x", "y", "modes"])?;
     if modes.is_empty() {
         return Err(s.err("", "no modes: give at least one under x, y or modes"));
     }
@@ -286,6 +286,7 @@ pub(crate) fn read_material(root: &Node<'_>) -> Result<Material, MachineError> {
     let m = root
         .table("material")?
         .ok_or_else(|| root.missing("material", "the cutting coefficients ([material] with kt and kr)"))?;
+    m.finish(&["law", "x_f", "kt", "kr", "kr_ratio", "kte", "kre"])?;
     let law = match m.choice("law", &["linear", "power"])?.as_deref() {
         None | Some("linear") => Law::Linear,
         _ => {
@@ -352,7 +353,6 @@ pub(crate) fn read_material(root: &Node<'_>) -> Result<Material, MachineError> {
     if law != Law::Linear && (kte != 0.0 || kre != 0.0) {
         return Err(m.err("kte", "edge coefficients belong to the linear law"));
     }
-    m.finish(&["law", "x_f", "kt", "kr", "kr_ratio", "kte", "kre"])?;
     Ok(Material { law, kt, kr, kte, kre })
 }
 
@@ -360,6 +360,15 @@ pub(crate) fn read_operation(root: &Node<'_>, tool: &Tool, modes: &[Mode]) -> Re
     let o = root
         .table("operation")?
         .ok_or_else(|| root.missing("operation", "the cut ([operation] with immersion, milling, feed_per_tooth)"))?;
+    o.finish(&[
+        "immersion",
+        "radial_depth",
+        "milling",
+        "feed_per_tooth",
+        "axial_depth",
+        "spindle_speed",
+        "speed_range",
+    ])?;
     let immersion =
         match (o.get("immersion"), o.quantity("radial_depth", &Field { what: "the radial depth", ..DIAMETER })?) {
             (Some(v), None) => {
@@ -414,20 +423,12 @@ pub(crate) fn read_operation(root: &Node<'_>, tool: &Tool, modes: &[Mode]) -> Re
         }
         Some(_) => return Err(o.err("speed_range", "expected two speeds, e.g. [\"2000 rpm\", \"20000 rpm\"]")),
     };
-    o.finish(&[
-        "immersion",
-        "radial_depth",
-        "milling",
-        "feed_per_tooth",
-        "axial_depth",
-        "spindle_speed",
-        "speed_range",
-    ])?;
     Ok(Operation { immersion, milling, feed_per_tooth, axial_depth, spindle_speed_rpm, speed_range_rpm })
 }
 
 pub(crate) fn read_actuator(root: &Node<'_>) -> Result<Option<Actuator>, MachineError> {
     let Some(a) = root.table("actuator")? else { return Ok(None) };
+    a.finish(&["axis", "frequency", "damping", "force_limit"])?;
     let d = Actuator::default();
     let axis = match a.choice("axis", &["x", "y"])?.as_deref() {
         Some("y") => Axis::Y,
@@ -444,12 +445,12 @@ pub(crate) fn read_actuator(root: &Node<'_>) -> Result<Option<Actuator>, Machine
     let force_limit = a
         .quantity("force_limit", &FORCE_LIMIT)?
         .ok_or_else(|| a.missing("force_limit", "the actuator's command limit, e.g. \"27 N\""))?;
-    a.finish(&["axis", "frequency", "damping", "force_limit"])?;
     Ok(Some(Actuator { axis, frequency_hz, damping, force_limit }))
 }
 
 pub(crate) fn read_controller(root: &Node<'_>) -> Result<Option<ControllerChoice>, MachineError> {
     let Some(c) = root.table("controller")? else { return Ok(None) };
+    c.finish(&["structure", "parameters", "set"])?;
     let structure = c
         .choice("structure", &["off", "pid", "fopid", "adrc_fopid"])?
         .ok_or_else(|| c.missing("structure", "off, pid, fopid or adrc_fopid"))?;
@@ -467,7 +468,6 @@ pub(crate) fn read_controller(root: &Node<'_>) -> Result<Option<ControllerChoice
             set.push((k, text));
         }
     }
-    c.finish(&["structure", "parameters", "set"])?;
     Ok(Some(ControllerChoice { structure, parameters, set }))
 }
 

@@ -242,14 +242,22 @@ impl<'a> Node<'a> {
         let (lo, hi) = field.range;
         if q.si < lo || q.si > hi {
             let (unit, f) = field.report;
+            let unit = if unit.is_empty() { String::new() } else { format!(" {unit}") };
             let mut m = format!(
-                "{} = {} {unit} is outside the physical range [{}, {}] {unit}",
+                "{} = {}{unit} is outside the physical range [{}, {}]{unit}",
                 field.what,
                 units::short(q.si * f),
                 units::short(lo * f),
                 units::short(hi * f)
             );
-            if !q.had_unit {
+            if q.si <= 0.0 && lo > 0.0 {
+                m = format!(
+                    "{} = {raw} must be positive (physical range [{}, {}]{unit})",
+                    field.what,
+                    units::short(lo * f),
+                    units::short(hi * f)
+                );
+            } else if !q.had_unit {
                 let ratio = if q.si < lo { lo / q.si.abs().max(f64::MIN_POSITIVE) } else { q.si / hi };
                 m = format!(
                     "{} = {raw} {} is {:.0e} times {} the physical range [{}, {}] {}",

@@ -22,7 +22,8 @@ fn check_bounds<S>(row: &Row<S>, v: &Value) -> Result<(), String> {
     };
     match row.attrs.bounds {
         Some((lo, hi)) if !(lo..=hi).contains(&x) => {
-            let hint = model_description::units::slip_hint(row.attrs.unit, x, lo, hi).map_or(String::new(), |h| format!("; {h}"));
+            let hint = model_description::units::slip_hint(row.attrs.unit, x, lo, hi)
+                .map_or(String::new(), |h| format!("; {h}"));
             Err(format!("{} = {x} is outside its bounds [{lo}, {hi}]{hint}", row.attrs.name))
         }
         _ => Ok(()),

@@ -93,9 +93,12 @@ fn draw(path: &Path, title: &str, series: &[Series], width: u32, height: u32) ->
         .axis_desc_style((FONT, 16))
         .draw()?;
     for (i, s) in series.iter().enumerate() {
-        let pts: Vec<(f64, f64)> =
-            s.points.iter().filter(|p| p.depth.is_finite()).map(|p| (p.rpm, p.depth * 1e3)).collect();
-        chart.draw_series(LineSeries::new(pts, colour(i).stroke_width(2)))?;
+        // a speed without a finite depth (stable over the searched range, or not drawn) breaks the
+        // curve instead of joining its neighbours across it
+        for run in s.points.split(|p| !p.depth.is_finite()).filter(|r| !r.is_empty()) {
+            let pts = run.iter().map(|p| (p.rpm, p.depth * 1e3));
+            chart.draw_series(LineSeries::new(pts, colour(i).stroke_width(2)))?;
+        }
     }
     root.present()?;
     Ok(())
