@@ -67,6 +67,18 @@ impl Default for Method {
     }
 }
 
+/// The method as reports name it (`converged (spectral collocation, tolerance 1e-3)`,
+/// `semi-discretisation, m = 40`, `spectral collocation, 12 nodes per element`).
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Method::Auto { tol } => write!(f, "converged (spectral collocation, tolerance {tol:e})"),
+            Method::Sd { m } => write!(f, "semi-discretisation, m = {m}"),
+            Method::Spectral(s) => write!(f, "spectral collocation, {} nodes per element", s.nodes),
+        }
+    }
+}
+
 /// The boundary at one speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Critical {

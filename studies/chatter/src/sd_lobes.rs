@@ -121,15 +121,6 @@ fn method(a: &SdLobesArgs) -> Result<Method> {
     })
 }
 
-/// The method as the output names it.
-fn describe(m: &Method) -> String {
-    match m {
-        Method::Auto { tol } => format!("converged (spectral collocation, tolerance {tol:e})"),
-        Method::Sd { m } => format!("semi-discretisation, m = {m}"),
-        Method::Spectral(s) => format!("spectral collocation, {} nodes per element", s.nodes),
-    }
-}
-
 /// The boundary and the time-domain boundary through the plant FMU at each speed of `--validate-rpm`.
 fn validate(a: &SdLobesArgs, plant: &milling_plant::PlantParams, o: &LobeOptions) -> Result<()> {
     let model = seed000_model(plant)?;
@@ -213,7 +204,7 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
     println!(
         "{label}: {} speeds {rpm_min}–{rpm_max} rpm, {}, state {}: {evals} monodromy operators in {secs:.2} s",
         speeds.len(),
-        describe(&method),
+        method,
         model.dim(),
     );
     if let Method::Sd { m } = method {
@@ -259,7 +250,7 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
     let curve: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.critical.value.map(|v| (p.rpm, v * 1e3))).collect();
     study_kit::figures::plot_xy(
         &png,
-        &format!("Stability lobes: {machine}\n{} speeds {rpm_min}–{rpm_max} rpm, {}", speeds.len(), describe(&method)),
+        &format!("Stability lobes: {machine}\n{} speeds {rpm_min}–{rpm_max} rpm, {}", speeds.len(), method),
         "spindle speed [rpm]",
         "limiting depth a_lim [mm]",
         &[("a_lim".to_string(), curve)],

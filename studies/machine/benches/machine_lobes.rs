@@ -1,12 +1,15 @@
 //! Speed of a user's machine's lobes (issue "your own machine"): the 2-D zero-order method over
-//! 10,000 speeds on one thread, and the semi-discretisation of a 2-D, 4-mode machine over 200
-//! speeds at m = 40 on every core against one thread (the single-thread baseline), each measured
-//! in the same run.
+//! 10,000 speeds on one thread, the semi-discretisation of a 2-D, 4-mode machine over 200
+//! speeds at m = 40 on every core against one thread (the single-thread baseline), and the
+//! converged default of `MachineLobes` (issue 32) on the same 200 speeds on every core against
+//! that SD run, each measured in the same run. SD at m = 40 is not converged (its largest
+//! deviation from the converged boundary is printed); the comparison at equal accuracy is
+//! `cargo bench -p delay-stability --bench converged`.
 //!
 //! `cargo bench -p machine --bench machine_lobes`
 
 use delay_stability::frequency::{Lobes, ZeroOrder2d};
-use delay_stability::{BisectionOptions, lobes};
+use delay_stability::{BisectionOptions, lobes, lobes_with};
 use machine::Machine;
 use std::time::Instant;
 
@@ -44,12 +47,17 @@ fn main() {
     let speeds = machine::workflow::speeds(lo, hi, n);
     let t = Instant::now();
     let d = pool(1).install(|| {
-        let zo = ZeroOrder2d::new(|w: f64| m.receptance(w), &m.cutter().unwrap(), machine::lobes::band(&m), lo).unwrap();
+        let zo =
+            ZeroOrder2d::new(|w: f64| m.receptance(w), &m.cutter().unwrap(), machine::lobes::band(&m), lo).unwrap();
         zo.diagram(&speeds)
     });
     let zo_s = t.elapsed().as_secs_f64();
     let min = d.iter().map(|p| p.depth).fold(f64::INFINITY, f64::min);
-    println!("2-D zero-order, 4 modes: {n} speeds in {zo_s:.3} s on one thread ({:.1} µs per speed), b_min {:.4} mm", zo_s / n as f64 * 1e6, min * 1e3);
+    println!(
+        "2-D zero-order, 4 modes: {n} speeds in {zo_s:.3} s on one thread ({:.1} µs per speed), b_min {:.4} mm",
+        zo_s / n as f64 * 1e6,
+        min * 1e3
+    );
     // semi-discretisation, all cores vs one
     let n = if quick { 4 } else { 200 };
     let speeds = machine::workflow::speeds(lo, hi, n);
@@ -63,10 +71,27 @@ fn main() {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (t_all, a) = run(cores);
     let (t_one, b) = run(1);
-    assert!(a.iter().zip(&b).all(|(x, y)| x.critical.value == y.critical.value), "the same lobes on any number of threads");
+    assert!(
+        a.iter().zip(&b).all(|(x, y)| x.critical.value == y.critical.value),
+        "the same lobes on any number of threads"
+    );
     println!(
         "semi-discretisation (m = 40), 4 modes: {n} speeds in {t_all:.2} s on {cores} threads, {t_one:.2} s on one thread: {:.2}x ({:.0} ms per speed on one thread)",
         t_one / t_all,
         t_one / n as f64 * 1e3
+    );
+    // the converged default (what `chatter lobes --machine` runs), every core
+    let t = Instant::now();
+    let c = pool(cores).install(|| lobes_with(&speeds, |rpm, a| model.at(rpm, a), &o.converged(), &|_, _| {}).unwrap());
+    let t_conv = t.elapsed().as_secs_f64();
+    let off = a
+        .iter()
+        .zip(&c)
+        .filter_map(|(x, y)| Some((x.critical.value? / y.critical.value? - 1.0).abs()))
+        .fold(0.0, f64::max);
+    println!(
+        "converged default, 4 modes: {n} speeds in {t_conv:.2} s on {cores} threads: {:.2}x faster than SD m = 40 on {cores} threads (which is up to {:.2} % off the converged boundary)",
+        t_all / t_conv,
+        100.0 * off
     );
 }
