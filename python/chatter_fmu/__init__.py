@@ -92,11 +92,13 @@ class Machine:
         """What the file describes (modes, static stiffness, the cut), as ``chatter machine check``."""
         return self._native.summary()
 
-    def lobes(self, points: int = 200, rpm: Optional[Tuple[float, float]] = None, sd_m: int = 40) -> Dict[str, object]:
+    def lobes(self, points: int = 200, rpm: Optional[Tuple[float, float]] = None,
+              sd_m: Optional[int] = None) -> Dict[str, object]:
         """Open-loop lobes at ``points`` speeds over ``rpm`` (default: the file's range) by the
-        zero-order, multi-frequency and semi-discretisation (order ``sd_m``) methods: arrays
-        ``rpm``, ``zero_order``, ``multi_frequency``, ``sd`` (critical depths in m, inf where
-        stable), ``sd_kind`` (hopf/flip), and the ``report`` saying where they disagree."""
+        zero-order, multi-frequency and time-periodic methods (the last converged to 0.1 %, or
+        the semi-discretisation of order ``sd_m``): arrays ``rpm``, ``zero_order``,
+        ``multi_frequency``, ``sd`` (the time-periodic critical depths in m, inf where stable),
+        ``sd_kind`` (hopf/flip), and the ``report`` saying where they disagree."""
         lo, hi = (None, None) if rpm is None else rpm
         s, zo, mf, sd, kinds, report = self._native.lobes(points, lo, hi, sd_m)
         return {"rpm": _f64(s), "zero_order": _f64(zo), "multi_frequency": _f64(mf), "sd": _f64(sd),
@@ -112,9 +114,10 @@ class Machine:
         st, sat = _f64(st), _f64(sat)
         return {"rpm": _f64(s), "stability": st, "saturation": sat, "usable": np.minimum(st, sat), "label": label}
 
-    def validate(self, rpm: float, sd_m: int = 40) -> Dict[str, object]:
-        """The semi-discretisation boundary at ``rpm`` run through the FMUs at 0.97 and 1.03 of
-        it: ``boundary`` (m), ``kind``, the growth ratios ``below`` and ``above`` (< 1 decays)."""
+    def validate(self, rpm: float, sd_m: Optional[int] = None) -> Dict[str, object]:
+        """The time-periodic boundary at ``rpm`` (converged, or the semi-discretisation of order
+        ``sd_m``) run through the FMUs at 0.97 and 1.03 of it: ``boundary`` (m), ``kind``, the
+        growth ratios ``below`` and ``above`` (< 1 decays)."""
         b, kind, below, above = self._native.validate(rpm, sd_m)
         return {"rpm": rpm, "boundary": b, "kind": kind, "below": below, "above": above,
                 "confirmed": below < 1.0 < above}

@@ -232,9 +232,9 @@ impl Machine {
     }
 
     /// Open-loop lobes at `points` speeds over `(rpm_min, rpm_max)`: speeds and the zero-order,
-    /// multi-frequency and semi-discretisation depths \[m\] as bytes, the SD's kind per speed,
-    /// and the report.
-    #[pyo3(signature = (points=200, rpm_min=None, rpm_max=None, sd_m=40))]
+    /// multi-frequency and time-periodic depths \[m\] as bytes (the last converged, or by the
+    /// semi-discretisation of order `sd_m`), its kind per speed, and the report.
+    #[pyo3(signature = (points=200, rpm_min=None, rpm_max=None, sd_m=None))]
     #[allow(clippy::type_complexity)]
     fn lobes<'py>(
         &self,
@@ -242,7 +242,7 @@ impl Machine {
         points: usize,
         rpm_min: Option<f64>,
         rpm_max: Option<f64>,
-        sd_m: usize,
+        sd_m: Option<usize>,
     ) -> PyResult<(
         Bound<'py, PyBytes>,
         Bound<'py, PyBytes>,
@@ -255,7 +255,10 @@ impl Machine {
         let speeds = machine::workflow::speeds(rpm_min.unwrap_or(lo), rpm_max.unwrap_or(hi), points.max(2));
         let m = &self.m;
         let l = py
-            .detach(|| machine::lobes::MachineLobes::compute(m, &speeds, sd_m, &|_, _| {}).map_err(|e| e.to_string()))
+            .detach(|| {
+                machine::lobes::MachineLobes::compute(m, &speeds, machine::lobes::discretisation(sd_m), &|_, _| {})
+                    .map_err(|e| e.to_string())
+            })
             .map_err(ChatterError::new_err)?;
         let kinds = l.sd.iter().map(|p| p.critical.kind().map_or("none", |k| k.name()).to_string()).collect();
         Ok((
@@ -301,13 +304,16 @@ impl Machine {
         ))
     }
 
-    /// The semi-discretisation boundary at `rpm` checked through the FMUs: (boundary \[m\],
-    /// kind, growth ratio at 0.97, growth ratio at 1.03); an error if stable up to 100 mm.
-    #[pyo3(signature = (rpm, sd_m=40))]
-    fn validate(&self, py: Python<'_>, rpm: f64, sd_m: usize) -> PyResult<(f64, String, f64, f64)> {
+    /// The time-periodic boundary at `rpm` (converged, or by the semi-discretisation of order
+    /// `sd_m`) checked through the FMUs: (boundary \[m\], kind, growth ratio at 0.97, growth
+    /// ratio at 1.03); an error if stable up to 100 mm.
+    #[pyo3(signature = (rpm, sd_m=None))]
+    fn validate(&self, py: Python<'_>, rpm: f64, sd_m: Option<usize>) -> PyResult<(f64, String, f64, f64)> {
         let m = &self.m;
         let v = py
-            .detach(|| machine::workflow::validate(m, rpm, sd_m).map_err(|e| e.to_string()))
+            .detach(|| {
+                machine::workflow::validate(m, rpm, machine::lobes::discretisation(sd_m)).map_err(|e| e.to_string())
+            })
             .map_err(ChatterError::new_err)?;
         let v =
             v.ok_or_else(|| ChatterError::new_err(format!("{rpm} rpm: stable up to 100 mm: nothing to validate")))?;

@@ -33,16 +33,21 @@
 mod bracket;
 pub mod exact;
 pub mod frequency;
+pub mod krylov;
 pub mod lobes;
 pub mod milling;
 pub mod oscillator;
 pub mod presets;
 pub mod quadrature;
 pub mod sd;
+pub mod search;
+pub mod spectral;
 pub mod zero_order;
 
 pub use lobes::{BisectionOptions, Critical, LobePoint, critical_value, lobes};
 pub use sd::{Bifurcation, Multiplier, monodromy, monodromy_dense};
+pub use search::{LobeOptions, Method, critical, lobes_with};
+pub use spectral::{Spectral, SpectralOptions};
 
 use nalgebra::DMatrix;
 
@@ -83,6 +88,64 @@ pub trait PeriodicDde {
     /// The constant delayed output `C_d` (r × n).
     fn delayed_output(&self) -> DMatrix<f64>;
     /// `A(t)` and `B_d(t)` averaged over `[t0, t1] ⊂ [0, T]`: `(1/(t1−t0)) ∫ A dt` (n × n) and
-    /// `(1/(t1−t0)) ∫ B_d dt` (n × r).
+    /// `(1/(t1−t0)) ∫ B_d dt` (n × r). With `t1 = t0` the values at `t0` (the limit), which the
+    /// default [`PeriodicDde::at`] asks for.
     fn averaged(&self, t0: f64, t1: f64) -> (DMatrix<f64>, DMatrix<f64>);
+
+    /// `A(t)` and `B_d(t)` at one instant `t ∈ (0, T)` (the spectral collocation's nodes, never a
+    /// breakpoint). Default: [`PeriodicDde::averaged`] over `[t, t]`.
+    fn at(&self, t: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+        self.averaged(t, t)
+    }
+
+    /// The instants in `(0, T)` where `A` or `B_d` is not smooth (a jump, a kink, an integrable
+    /// singularity): the spectral collocation ([`spectral`]) puts element ends there, so that
+    /// every element sees smooth coefficients. Default: none (smooth coefficients).
+    fn breakpoints(&self) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// The instants in `[0, T)` where `A` or `B_d` is unbounded (an integrable singularity, like
+    /// `(t − t_s)^{−1/4}` of the power-law cutting force where a tooth enters or leaves at zero
+    /// chip; 0 stands for both ends of the period). The spectral collocation grades its elements
+    /// geometrically towards them. Default: none.
+    fn singularities(&self) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// The constant part of the system, if it has one of low rank in the time-varying terms:
+    /// `A(t) = A₀ + G P(t) C₀` and `B_d(t) = G Q(t)` ([`Splitting`]); the spectral collocation
+    /// then integrates `A₀` exactly and collocates only the `k`-dimensional input `G v(t)`.
+    /// Default `None`: `A₀` is the mean of `A` over the period and `G = C₀ = I`.
+    fn splitting(&self) -> Option<Splitting> {
+        None
+    }
+
+    /// `P(t)` (k × p) and `Q(t)` (k × r) of the [`Splitting`]; called only when
+    /// [`PeriodicDde::splitting`] is `Some`. Default: the generic split (`P = A(t) − A₀`,
+    /// `Q = B_d(t)` with `A₀` from `splitting`).
+    fn gains(&self, t: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+        let (a, b) = self.at(t);
+        let a0 = self.splitting().map_or_else(|| DMatrix::zeros(a.nrows(), a.ncols()), |s| s.a0);
+        (a - a0, b)
+    }
+}
+
+/// The constant, low-rank structure of a [`PeriodicDde`]:
+///
+/// ```text
+/// ẋ = A₀ x + G v(t),     v(t) = P(t) C₀ x(t) + Q(t) C_d x(t − τ),
+/// ```
+///
+/// with constant `A₀` (n × n), `G` (n × k), `C₀` (p × n) and periodic `P(t)` (k × p), `Q(t)`
+/// (k × r). A milling model has `A₀` = structure and controller, `G` = the force inputs,
+/// `C₀` = the tool displacement, `P = a_p H(t)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Splitting {
+    /// A₀ (n × n).
+    pub a0: DMatrix<f64>,
+    /// G (n × k).
+    pub g: DMatrix<f64>,
+    /// C₀ (p × n).
+    pub c0: DMatrix<f64>,
 }

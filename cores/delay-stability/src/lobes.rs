@@ -17,6 +17,7 @@
 //! callback after each.
 
 use crate::sd::{Bifurcation, Multiplier, critical_multiplier};
+use crate::spectral::SpectralOptions;
 use crate::{PeriodicDde, StabilityError};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -42,6 +43,42 @@ impl Default for BisectionOptions {
     }
 }
 
+/// The discretisation of the monodromy operator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// The spectral collocation with the order raised until the boundary moves by less than
+    /// `tol` (relative) to the next order ([`crate::search`] module docs).
+    Auto {
+        /// Relative tolerance of the critical value.
+        tol: f64,
+    },
+    /// The spectral collocation at a fixed order.
+    Spectral(SpectralOptions),
+    /// The first-order semi-discretisation with `m` intervals per period ([`crate::sd`]).
+    Sd {
+        /// Intervals per period.
+        m: usize,
+    },
+}
+
+impl Default for Method {
+    fn default() -> Self {
+        Method::Auto { tol: 1e-3 }
+    }
+}
+
+/// The method as reports name it (`converged (spectral collocation, tolerance 1e-3)`,
+/// `semi-discretisation, m = 40`, `spectral collocation, 12 nodes per element`).
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Method::Auto { tol } => write!(f, "converged (spectral collocation, tolerance {tol:e})"),
+            Method::Sd { m } => write!(f, "semi-discretisation, m = {m}"),
+            Method::Spectral(s) => write!(f, "spectral collocation, {} nodes per element", s.nodes),
+        }
+    }
+}
+
 /// The boundary at one speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Critical {
@@ -49,8 +86,13 @@ pub struct Critical {
     pub value: Option<f64>,
     /// Critical multiplier on the unstable side.
     pub multiplier: Option<Multiplier>,
-    /// Number of monodromy matrices computed.
+    /// Number of monodromy matrices (or operators) computed.
     pub evaluations: usize,
+    /// The discretisation that gave the value (for [`Method::Auto`]: the order that converged).
+    pub method: Method,
+    /// [`Method::Auto`]: the estimated relative error of the value (the shift to the next
+    /// order); otherwise `None`.
+    pub error: Option<f64>,
 }
 
 impl Critical {
@@ -84,7 +126,13 @@ pub fn critical_value<S: PeriodicDde>(
             break mu;
         }
         if hi >= o.max {
-            return Ok(Critical { value: None, multiplier: None, evaluations });
+            return Ok(Critical {
+                value: None,
+                multiplier: None,
+                evaluations,
+                method: Method::Sd { m: o.m },
+                error: None,
+            });
         }
         lo = hi;
         hi = (hi * o.growth).min(o.max);
@@ -99,7 +147,13 @@ pub fn critical_value<S: PeriodicDde>(
             at_hi = mu;
         }
     }
-    Ok(Critical { value: Some(0.5 * (lo + hi)), multiplier: Some(at_hi), evaluations })
+    Ok(Critical {
+        value: Some(0.5 * (lo + hi)),
+        multiplier: Some(at_hi),
+        evaluations,
+        method: Method::Sd { m: o.m },
+        error: None,
+    })
 }
 
 /// One point of a lobe diagram.

@@ -54,6 +54,16 @@ impl GaussLegendre {
         GaussLegendre { nodes, weights }
     }
 
+    /// The nodes on `[0, 1]`, ascending.
+    pub fn nodes(&self) -> &[f64] {
+        &self.nodes
+    }
+
+    /// The weights (summing to 1).
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+
     /// `∫_0^1 f`.
     pub fn unit<T: std::ops::AddAssign + std::ops::Mul<f64, Output = T> + Default>(&self, f: impl Fn(f64) -> T) -> T {
         let mut s = T::default();

@@ -104,6 +104,7 @@ impl Multiplier {
 }
 
 /// One step's matrices: `P = e^{AΔt}`, `R0 = (M0 − M1/Δt) B`, `R1 = (M1/Δt) B`.
+#[derive(Clone, Debug)]
 pub(crate) struct Step {
     p: DMatrix<f64>,
     r0: DMatrix<f64>,
@@ -204,6 +205,91 @@ pub fn monodromy_dense<S: PeriodicDde + ?Sized>(sys: &S, m: usize) -> Result<DMa
     ))
 }
 
+/// The monodromy operator of the semi-discretisation in product form: the `m` step matrices,
+/// applied to a vector one step at a time ([`SdOperator::apply`]) without forming Φ. The delayed
+/// outputs sit in a ring buffer: a step writes `C_d x_i` over the slot of `y_{i−m}`, which it has
+/// just used, and after `m` steps the ring is back in its original order, so `apply` equals
+/// `Φ z` with Φ of [`monodromy`] (tested) at `O(m (n² + n r))` operations and no allocation.
+#[derive(Clone, Debug)]
+pub struct SdOperator {
+    n: usize,
+    r: usize,
+    m: usize,
+    cd: DMatrix<f64>,
+    steps: Vec<Step>,
+}
+
+impl SdOperator {
+    /// The operator of `sys` with `m` intervals (one Van Loan exponential per interval).
+    pub fn new<S: PeriodicDde + ?Sized>(sys: &S, m: usize) -> Result<SdOperator, StabilityError> {
+        let cd = sys.delayed_output();
+        let n = sys.dim();
+        let r = cd.nrows();
+        check(n, r, m, sys.period())?;
+        let dt = sys.period() / m as f64;
+        let steps = (0..m)
+            .map(|i| {
+                let (a, b) = sys.averaged(i as f64 * dt, (i + 1) as f64 * dt);
+                step(&a, &b, dt)
+            })
+            .collect::<Vec<_>>();
+        if steps.iter().any(|s| s.p.iter().chain(s.r0.iter()).chain(s.r1.iter()).any(|v| !v.is_finite())) {
+            return Err(StabilityError::Invalid("the monodromy matrix has non-finite entries".into()));
+        }
+        Ok(SdOperator { n, r, m, cd, steps })
+    }
+
+    /// Dimension `n + r m`.
+    pub fn dim(&self) -> usize {
+        self.n + self.r * self.m
+    }
+
+    /// `out = Φ z`; `work` holds the ring and two state vectors (resized once).
+    pub fn apply(&self, z: &[f64], out: &mut [f64], work: &mut Vec<f64>) {
+        let (n, r, m) = (self.n, self.r, self.m);
+        work.resize(r * m + 2 * n + r, 0.0);
+        let (ring, rest) = work.split_at_mut(r * m);
+        let (x, rest) = rest.split_at_mut(n);
+        let (xn, y0) = rest.split_at_mut(n);
+        ring.copy_from_slice(&z[n..]);
+        x.copy_from_slice(&z[..n]);
+        // slot of y_{i−k} (k ≥ 1) when the ring starts at `head`
+        let slot = |head: usize, k: usize| (head + k - 1) % m;
+        let mut head = 0;
+        for s in &self.steps {
+            let ym = slot(head, m) * r;
+            let ym1 = if m >= 2 {
+                slot(head, m - 1) * r
+            } else {
+                // y_{i−m+1} = y_i = C_d x_i
+                for (k, v) in y0.iter_mut().enumerate() {
+                    *v = (0..n).map(|j| self.cd[(k, j)] * x[j]).sum();
+                }
+                usize::MAX
+            };
+            for (i, out) in xn.iter_mut().enumerate() {
+                let mut acc = 0.0;
+                for (j, xj) in x.iter().enumerate() {
+                    acc += s.p[(i, j)] * xj;
+                }
+                for k in 0..r {
+                    acc += s.r0[(i, k)] * ring[ym + k];
+                    acc += s.r1[(i, k)] * if ym1 == usize::MAX { y0[k] } else { ring[ym1 + k] };
+                }
+                *out = acc;
+            }
+            // y_{i+1−1} = C_d x_i into the slot of y_{i−m}, now used
+            head = (head + m - 1) % m;
+            for k in 0..r {
+                ring[head * r + k] = (0..n).map(|j| self.cd[(k, j)] * x[j]).sum();
+            }
+            x.copy_from_slice(xn);
+        }
+        out[..n].copy_from_slice(x);
+        out[n..].copy_from_slice(ring);
+    }
+}
+
 /// All eigenvalues of a square matrix (dense real Schur), largest modulus first.
 ///
 /// nalgebra's Schur iteration deflates with a purely relative test, which never succeeds on the
@@ -212,11 +298,26 @@ pub fn monodromy_dense<S: PeriodicDde + ?Sized>(sys: &S, m: usize) -> Result<DMa
 /// (shifts [`SHIFTS`], the next one tried if the iteration fails) and shifted back; the shift
 /// moves the zero cluster away from the origin and changes nothing else.
 pub fn eigenvalues(phi: &DMatrix<f64>) -> Result<Vec<Complex64>, StabilityError> {
+    eigenvalues_with(phi, SHIFTS)
+}
+
+/// The shifts of [`eigenvalues_unshifted_first`].
+pub const ZERO_FIRST: &[f64] = &[0.0, 0.3141, -0.2718, 0.1618];
+
+/// [`eigenvalues`] trying the unshifted matrix first: for the spectral collocation's matrices
+/// (and the Krylov iteration's projections), whose zero eigenvalues the unshifted iteration
+/// deflates at once while a shift can stall on them.
+pub fn eigenvalues_unshifted_first(phi: &DMatrix<f64>) -> Result<Vec<Complex64>, StabilityError> {
+    eigenvalues_with(phi, ZERO_FIRST)
+}
+
+/// [`eigenvalues`] with the shifts tried in the order given.
+pub fn eigenvalues_with(phi: &DMatrix<f64>, shifts: &[f64]) -> Result<Vec<Complex64>, StabilityError> {
     let dim = phi.nrows();
     if phi.iter().any(|v| !v.is_finite()) {
         return Err(StabilityError::Invalid("the monodromy matrix has non-finite entries".into()));
     }
-    for &sigma in SHIFTS {
+    for &sigma in shifts {
         let mut shifted = phi.clone();
         for k in 0..dim {
             shifted[(k, k)] += sigma;
@@ -301,6 +402,24 @@ mod tests {
         assert_eq!(Bifurcation::of(Complex64::new(-1.0, 1e-5)), Bifurcation::Flip);
         assert_eq!(Bifurcation::of(Complex64::new(1.0, -1e-5)), Bifurcation::Fold);
         assert_eq!(Bifurcation::of(Complex64::from_polar(1.0, 2.0)), Bifurcation::Hopf);
+    }
+
+    #[test]
+    fn the_product_form_is_the_monodromy_matrix() {
+        // two states, one delayed output; m = 1 (y_{i−m+1} = y_i) and m > 1
+        let sys = crate::oscillator::DelayedMathieu { kappa: 0.2, delta: 1.3, epsilon: 0.7, b: -0.4 };
+        for m in [1, 2, 7, 30] {
+            let phi = monodromy(&sys, m).unwrap();
+            let op = SdOperator::new(&sys, m).unwrap();
+            assert_eq!(op.dim(), phi.nrows());
+            let z: Vec<f64> = (0..op.dim()).map(|i| ((i * 17) % 7) as f64 - 3.0).collect();
+            let mut out = vec![0.0; op.dim()];
+            op.apply(&z, &mut out, &mut Vec::new());
+            let expect = &phi * nalgebra::DVector::from_column_slice(&z);
+            for (a, b) in out.iter().zip(expect.iter()) {
+                assert!((a - b).abs() < 1e-12 * expect.norm(), "m = {m}: {a} vs {b}");
+            }
+        }
     }
 
     #[test]

@@ -344,19 +344,31 @@ pub struct Loop {
     right: CMat,
 }
 
-/// [`Loop`] of `P̃` (from [`Problem::generalized`]) and `K(iω)`.
-pub fn close(p: &CMat, k: &CMat) -> Result<Loop, SynthError> {
+/// `(I − P₂₂K)⁻¹P₂₁` and `N = P₁₁ + P₁₂ K (I − P₂₂K)⁻¹P₂₁`.
+fn right_and_n(p: &CMat, k: &CMat) -> Result<(CMat, CMat), SynthError> {
     let p11 = p.view((0, 0), (8, 8));
     let p12 = p.view((0, 8), (8, 2));
     let p21 = p.view((8, 0), (2, 8));
     let p22 = p.view((8, 8), (2, 2));
-    let i2 = CMat::identity(2, 2);
-    let a = (&i2 - p22 * k).try_inverse().ok_or_else(|| SynthError::Singular("I − P₂₂K".into()))?;
-    let b = (&i2 - k * p22).try_inverse().ok_or_else(|| SynthError::Singular("I − KP₂₂".into()))?;
+    let a = (CMat::identity(2, 2) - p22 * k).try_inverse().ok_or_else(|| SynthError::Singular("I − P₂₂K".into()))?;
     let right = a * p21;
-    let left = p12 * b;
     let n = p11 + p12 * k * &right;
+    Ok((right, n))
+}
+
+/// [`Loop`] of `P̃` (from [`Problem::generalized`]) and `K(iω)`.
+pub fn close(p: &CMat, k: &CMat) -> Result<Loop, SynthError> {
+    let (right, n) = right_and_n(p, k)?;
+    let p12 = p.view((0, 8), (8, 2));
+    let p22 = p.view((8, 8), (2, 2));
+    let b = (CMat::identity(2, 2) - k * p22).try_inverse().ok_or_else(|| SynthError::Singular("I − KP₂₂".into()))?;
+    let left = p12 * b;
     Ok(Loop { n, left, right })
+}
+
+/// `N` of [`close`] alone (the same operations, without the gradient's other factor).
+pub fn close_n(p: &CMat, k: &CMat) -> Result<CMat, SynthError> {
+    Ok(right_and_n(p, k)?.1)
 }
 
 /// `σ̄(D N D⁻¹)` and its gradient in θ (module docs of [`crate::mu`]):

@@ -4,7 +4,7 @@ use delay_stability::presets::{SEED002_GAINS, seed002, seed002_cutter, seed002_s
 use nalgebra::DMatrix;
 use num_complex::Complex64;
 use robust_synthesis::mu::CMat;
-use robust_synthesis::plant::{Parameterisation, Problem, Weight, close, controller_frf, scaled_gain};
+use robust_synthesis::plant::{Parameterisation, Problem, Weight, close, close_n, controller_frf, scaled_gain};
 
 fn problem(x_f: f64, abar: f64) -> Problem {
     Problem {
@@ -65,6 +65,28 @@ fn eliminating_the_uncertainty_gives_the_physical_loop() {
         let phys = loop_ * &k * pr.weight.at(w);
         let err = (&lft - &phys).norm() / phys.norm();
         assert!(err < 1e-9, "ω = {w}: LFT {lft} vs physical {phys} ({err})");
+    }
+}
+
+#[test]
+fn the_loop_alone_is_the_loop_of_close_bit_for_bit() {
+    // the D-step and the K-step's sweep use close_n: it must be N of close exactly (the synthesis
+    // keeps its results byte for byte)
+    let pr = problem(0.744, 1.5e-3);
+    let par = Parameterisation::Full { nc: 2 };
+    let c = par.controller(&theta_nc2(), 1.0);
+    for hz in [20.0, 640.0, 1250.0, 2517.0, 7900.0] {
+        let w = 2.0 * std::f64::consts::PI * hz;
+        let p = pr.generalized(w).unwrap();
+        let (k, _, _) = controller_frf(&c, w).unwrap();
+        let full = close(&p, &k).unwrap().n;
+        let alone = close_n(&p, &k).unwrap();
+        assert!(
+            full.iter()
+                .zip(alone.iter())
+                .all(|(a, b)| a.re.to_bits() == b.re.to_bits() && a.im.to_bits() == b.im.to_bits()),
+            "{hz} Hz"
+        );
     }
 }
 

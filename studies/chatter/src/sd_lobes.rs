@@ -1,20 +1,23 @@
-//! `chatter sd-lobes`: semi-discretisation lobes (time-periodic, multi-DOF; Hopf and flip) of the
-//! seed 000 plant described by the `MillingPlant.fmu` parameter names, or of a seed 002 preset.
+//! `chatter sd-lobes`: time-periodic lobes (multi-DOF; Hopf and flip) of the seed 000 plant
+//! described by the `MillingPlant.fmu` parameter names, or of a seed 002 preset or design. By
+//! default converged (`--method auto`: the spectral collocation of `delay_stability::spectral`,
+//! its order raised until the boundary moves by less than `--tol`); `--method sd --m 40` is the
+//! first-order semi-discretisation, `--method spectral --nodes N` a fixed order.
 //!
 //! ```text
 //! chatter sd-lobes [--plant seed|ozsoy] [--set plant.NAME=VALUE]... [--rpm-min ..] [--rpm-max ..]
-//! chatter sd-lobes --preset seed002-6.1|seed002-6.1-closed|seed002-6.2 [--m 40] [--points 41]
+//! chatter sd-lobes --preset seed002-6.1|seed002-6.1-closed|seed002-6.2 [--method auto|sd|spectral] [--points 41]
 //! ```
 
 use crate::common::plant_by_name;
 use crate::lobes::{file_name, machine_title};
 use anyhow::{Context, Result, bail, ensure};
 use clap::Args;
-use delay_stability::BisectionOptions;
 use delay_stability::zero_order::speed_grid;
+use delay_stability::{LobeOptions, Method, SpectralOptions};
 use fmi_master::{Override, SystemFile};
 use indicatif::{ProgressBar, ProgressStyle};
-use seed000::sd_lobes::{extremes, sd_lobes, seed000_model, write_csv};
+use seed000::sd_lobes::{extremes, seed000_model, write_csv};
 use seed002::presets::Preset;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -51,9 +54,19 @@ pub struct SdLobesArgs {
     /// Number of speeds.
     #[arg(long, default_value_t = 41)]
     pub points: usize,
-    /// Semi-discretisation intervals per tooth period.
+    /// The discretisation: `auto` (converged: spectral collocation, order raised to `--tol`),
+    /// `sd` (first-order semi-discretisation, `--m` intervals) or `spectral` (`--nodes` per element).
+    #[arg(long, default_value = "auto")]
+    pub method: String,
+    /// `--method auto`: relative tolerance of the boundary (the shift to the next order).
+    #[arg(long, default_value_t = 1e-3)]
+    pub tol: f64,
+    /// `--method sd`: semi-discretisation intervals per tooth period.
     #[arg(long, default_value_t = 40)]
     pub m: usize,
+    /// `--method spectral`: Gauss–Legendre nodes per element.
+    #[arg(long, default_value_t = 12)]
+    pub nodes: usize,
     /// First depth of the upward scan [mm].
     #[arg(long, default_value_t = 0.05)]
     pub start_mm: f64,
@@ -66,11 +79,11 @@ pub struct SdLobesArgs {
     /// Relative width of the final bisection bracket.
     #[arg(long, default_value_t = 1e-5)]
     pub rel_tol: f64,
-    /// A fast, coarse run (5 speeds, m = 10, tolerance 1e-3) for tests.
+    /// A fast, coarse run (5 speeds, bracket 1e-3; with `--method sd` m = 10) for tests.
     #[arg(long)]
     pub quick: bool,
     /// Speeds [rpm] at which to bisect the time-domain boundary through `MillingPlant.fmu`
-    /// (seed 000 family only; `target/fmu`), printed beside the SD boundary.
+    /// (seed 000 family only; `target/fmu`), printed beside the computed boundary.
     #[arg(long, value_delimiter = ',')]
     pub validate_rpm: Vec<f64>,
     /// Simulated time per time-domain run [s].
@@ -98,13 +111,23 @@ fn seed000_params(a: &SdLobesArgs) -> Result<milling_plant::PlantParams> {
     Ok(plant.params)
 }
 
-/// SD boundary and the time-domain boundary through the plant FMU at each speed of `--validate-rpm`.
-fn validate(a: &SdLobesArgs, plant: &milling_plant::PlantParams, o: &BisectionOptions) -> Result<()> {
+/// The method of `--method` (`--quick` takes m = 10 for `sd`).
+fn method(a: &SdLobesArgs) -> Result<Method> {
+    Ok(match a.method.as_str() {
+        "auto" => Method::Auto { tol: a.tol },
+        "sd" => Method::Sd { m: if a.quick { 10 } else { a.m } },
+        "spectral" => Method::Spectral(SpectralOptions::new(a.nodes)),
+        other => bail!("--method {other}: one of auto, sd, spectral"),
+    })
+}
+
+/// The boundary and the time-domain boundary through the plant FMU at each speed of `--validate-rpm`.
+fn validate(a: &SdLobesArgs, plant: &milling_plant::PlantParams, o: &LobeOptions) -> Result<()> {
     let model = seed000_model(plant)?;
     let sys = seed000::scenario::closed_loop_system(&packaging::fmu_dir())?;
     let check = seed000::sd_validation::SdFmuCheck::new(&sys, plant)?;
     for &rpm in &a.validate_rpm {
-        let c = delay_stability::critical_value(|d| model.at(rpm, d), o).map_err(|e| anyhow::anyhow!("{e}"))?;
+        let c = delay_stability::critical(|d| model.at(rpm, d), o).map_err(|e| anyhow::anyhow!("{e}"))?;
         let Some(sd) = c.value else {
             println!("{rpm} rpm: stable up to {} mm, nothing to validate", a.max_mm);
             continue;
@@ -112,7 +135,7 @@ fn validate(a: &SdLobesArgs, plant: &milling_plant::PlantParams, o: &BisectionOp
         let t = Instant::now();
         let fmu = check.boundary(rpm, (0.9 * sd, 1.1 * sd), a.duration, 2e-3)?;
         println!(
-            "{rpm} rpm: SD {:.4} mm ({}), MillingPlant.fmu time domain {:.4} mm ({:+.2} %) [{:.1} s]",
+            "{rpm} rpm: computed {:.4} mm ({}), MillingPlant.fmu time domain {:.4} mm ({:+.2} %) [{:.1} s]",
             sd * 1e3,
             c.kind().map_or("none", |k| k.name()),
             fmu * 1e3,
@@ -161,14 +184,17 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
         rpm_min.is_finite() && rpm_min > 0.0 && rpm_max.is_finite() && rpm_max > rpm_min,
         "the speed range [{rpm_min}, {rpm_max}] rpm is empty or not positive"
     );
-    let (points, m, rel_tol) = if a.quick { (5, 10, 1e-3) } else { (a.points, a.m, a.rel_tol) };
+    let (points, rel_tol) = if a.quick { (5, 1e-3) } else { (a.points, a.rel_tol) };
     ensure!(points >= 2, "--points {points}: need at least 2 speeds");
-    let o = BisectionOptions { m, start: a.start_mm * 1e-3, growth: a.growth, max: a.max_mm * 1e-3, rel_tol };
+    let method = method(a)?;
+    let o = LobeOptions { method, start: a.start_mm * 1e-3, growth: a.growth, max: a.max_mm * 1e-3, rel_tol };
     let speeds = speed_grid(rpm_min, rpm_max, points);
     let bar = ProgressBar::new(speeds.len() as u64);
     bar.set_style(ProgressStyle::with_template("sd-lobes [{bar:30}] {pos}/{len} speeds ({elapsed})")?);
     let t = Instant::now();
-    let pts = sd_lobes(&model, &speeds, &o, &|done, _| bar.set_position(done as u64))?;
+    let pts =
+        delay_stability::lobes_with(&speeds, |rpm, d| model.at(rpm, d), &o, &|done, _| bar.set_position(done as u64))
+            .map_err(|e| anyhow::anyhow!("{e}"))?;
     bar.finish_and_clear();
     let secs = t.elapsed().as_secs_f64();
     let evals: usize = pts.iter().map(|p| p.critical.evaluations).sum();
@@ -176,11 +202,33 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
     let csv = a.out.join("sd_lobes.csv");
     write_csv(&csv, &pts)?;
     println!(
-        "{label}: {} speeds {rpm_min}–{rpm_max} rpm, m = {m}, state {} → monodromy {}: {evals} monodromy matrices in {secs:.2} s",
+        "{label}: {} speeds {rpm_min}–{rpm_max} rpm, {}, state {}: {evals} monodromy operators in {secs:.2} s",
         speeds.len(),
+        method,
         model.dim(),
-        model.dim() + m * delayed_outputs(&model),
     );
+    if let Method::Sd { m } = method {
+        println!("semi-discretisation: monodromy dimension {}", model.dim() + m * delayed_outputs(&model));
+    } else {
+        let nodes: Vec<usize> = pts
+            .iter()
+            .filter_map(|p| match p.critical.method {
+                Method::Spectral(s) => Some(s.nodes),
+                _ => None,
+            })
+            .collect();
+        let worst = pts.iter().filter_map(|p| p.critical.error).fold(0.0, f64::max);
+        println!(
+            "spectral collocation: {}–{} nodes per element{}",
+            nodes.iter().min().unwrap_or(&0),
+            nodes.iter().max().unwrap_or(&0),
+            if matches!(method, Method::Auto { .. }) {
+                format!(", largest error estimate {worst:.1e} (relative, to the next order)")
+            } else {
+                String::new()
+            }
+        );
+    }
     match extremes(&pts) {
         Some((lo, hi)) => {
             let kind = |p: &delay_stability::LobePoint| p.critical.kind().map_or("none", |k| k.name());
@@ -202,10 +250,7 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
     let curve: Vec<(f64, f64)> = pts.iter().filter_map(|p| p.critical.value.map(|v| (p.rpm, v * 1e3))).collect();
     study_kit::figures::plot_xy(
         &png,
-        &format!(
-            "Stability lobes by semi-discretisation: {machine}\n{} speeds {rpm_min}–{rpm_max} rpm, m = {m} intervals per tooth period",
-            speeds.len()
-        ),
+        &format!("Stability lobes: {machine}\n{} speeds {rpm_min}–{rpm_max} rpm, {}", speeds.len(), method),
         "spindle speed [rpm]",
         "limiting depth a_lim [mm]",
         &[("a_lim".to_string(), curve)],
@@ -213,12 +258,12 @@ pub fn sd_lobes_cmd(a: &SdLobesArgs) -> Result<()> {
     println!("wrote {} and {}", csv.display(), png.display());
     if !a.validate_rpm.is_empty() {
         ensure!(a.preset.is_none(), "--validate-rpm runs MillingPlant.fmu: the seed 000 family only");
-        validate(a, &seed000_params(a)?, &BisectionOptions { rel_tol: 1e-5, ..o })?;
+        validate(a, &seed000_params(a)?, &LobeOptions { rel_tol: 1e-5, ..o })?;
     }
     Ok(())
 }
 
-/// Number of delayed outputs r of the model (the monodromy dimension is n + r m).
+/// Number of delayed outputs r of the model (the semi-discretisation's dimension is n + r m).
 fn delayed_outputs(model: &delay_stability::milling::MillingModel) -> usize {
     use delay_stability::PeriodicDde;
     model.at(1000.0, 0.0).map_or(0, |s| s.delayed_output().nrows())

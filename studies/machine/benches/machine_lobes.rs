@@ -1,12 +1,15 @@
 //! Speed of a user's machine's lobes (issue "your own machine"): the 2-D zero-order method over
-//! 10,000 speeds on one thread, and the semi-discretisation of a 2-D, 4-mode machine over 200
-//! speeds at m = 40 on every core against one thread (the single-thread baseline), each measured
-//! in the same run.
+//! 10,000 speeds on one thread, the semi-discretisation of a 2-D, 4-mode machine over 200
+//! speeds at m = 40 on every core against one thread (the single-thread baseline), and the
+//! converged default of `MachineLobes` (issue 32) on the same 200 speeds on every core against
+//! that SD run, each measured in the same run. SD at m = 40 is not converged (its largest
+//! deviation from the converged boundary is printed); the comparison at equal accuracy is
+//! `cargo bench -p delay-stability --bench converged`.
 //!
 //! `cargo bench -p machine --bench machine_lobes`
 
 use delay_stability::frequency::{Lobes, ZeroOrder2d};
-use delay_stability::{BisectionOptions, lobes};
+use delay_stability::{BisectionOptions, LobeOptions, Method, critical, lobes, lobes_with};
 use machine::Machine;
 use std::time::Instant;
 
@@ -77,4 +80,35 @@ fn main() {
         t_one / t_all,
         t_one / n as f64 * 1e3
     );
+    // the converged default (what `chatter lobes --machine` runs), every core
+    let t = Instant::now();
+    let c = pool(cores).install(|| lobes_with(&speeds, |rpm, a| model.at(rpm, a), &o.converged(), &|_, _| {}).unwrap());
+    let t_conv = t.elapsed().as_secs_f64();
+    let (off, worst) = a
+        .iter()
+        .zip(&c)
+        .enumerate()
+        .filter_map(|(i, (x, y))| Some(((x.critical.value? / y.critical.value? - 1.0).abs(), i)))
+        .fold((0.0, 0), |best, d| if d.0 > best.0 { d } else { best });
+    println!(
+        "converged default, 4 modes: {n} speeds in {t_conv:.2} s on {cores} threads: {:.2}x faster than SD m = 40 on {cores} threads (which is up to {:.2} % off the converged boundary, at {:.0} rpm)",
+        t_all / t_conv,
+        100.0 * off,
+        speeds[worst]
+    );
+    // where SD m = 40 is worst: the converged boundary against SD extrapolated in m (c/m²)
+    if let Some(conv) = c[worst].critical.value {
+        let rpm = speeds[worst];
+        let sd = |m: usize| {
+            let o = LobeOptions { method: Method::Sd { m }, start: 0.5 * conv, rel_tol: 1e-7, ..o.converged() };
+            critical(|a| model.at(rpm, a), &o).unwrap().value.unwrap()
+        };
+        let ext = (4.0 * sd(320) - sd(160)) / 3.0;
+        println!(
+            "  at {rpm:.0} rpm: converged {:.5} mm, SD m = 160/320 extrapolated {:.5} mm ({:+.4} %)",
+            conv * 1e3,
+            ext * 1e3,
+            100.0 * (conv / ext - 1.0)
+        );
+    }
 }

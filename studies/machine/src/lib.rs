@@ -11,7 +11,7 @@
 //! | [`units`] | quantities with units: parsing, dimensions, SI |
 //! | [`read`] | the TOML reader that names the field and the fix in every error |
 //! | [`models`] | the machine as the stability core's models (modes, cutter, receptance, the closed loop) |
-//! | [`lobes`] | open-loop lobes by zero-order, multi-frequency and semi-discretisation, where they disagree and which to trust |
+//! | [`lobes`] | open-loop lobes by zero-order, multi-frequency and the time-periodic model (converged by default), where they disagree and which to trust |
 //! | [`closed`] | closed-loop lobes of a controller on the machine, with the saturation-limited depth |
 //! | [`tune`] | the seed's PSO tuning on the machine: its closed loop, its saturation check, the SSV of the result |
 //! | [`workflow`] | the workflow as functions the `chatter` command and the Python package both call: summary, controller choice, validation through the FMUs |

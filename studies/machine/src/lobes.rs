@@ -7,18 +7,21 @@
 //!   time-periodic force adds at low immersion (added lobes, flip lobes).
 //! * **Multi-frequency** (Budak–Altintas): the directional matrix's harmonics couple the
 //!   receptance at `ω + kω_T`; recovers the low-immersion lobes.
-//! * **Semi-discretisation** (Insperger–Stépán, first order, m steps per period): the
-//!   time-periodic delay system itself, Hopf and flip; the reference the others are checked
-//!   against (it converges in m; `chatter lobes --machine … --sd-m` sets m).
+//! * **Time-periodic** (the delay system itself, Hopf and flip): the reference the others are
+//!   checked against. By default converged ([`Discretisation::Auto`]: the spectral collocation
+//!   of `delay_stability`, its order raised per speed until the depth moves by less than 0.1 %
+//!   to the next order); `chatter lobes --machine … --sd-m M` takes the first-order
+//!   semi-discretisation (Insperger–Stépán, M steps per period, converging as 1/M²) instead, the
+//!   reference the converged method is tested against.
 //!
-//! At every speed the report compares the approximate methods with the semi-discretisation: a
-//! method more than [`TOLERANCE`] above it claims a deeper stable cut than the linear
+//! At every speed the report compares the approximate methods with the time-periodic boundary:
+//! a method more than [`TOLERANCE`] above it claims a deeper stable cut than the linear
 //! time-periodic model allows (the unsafe side) and is flagged; below it, conservative.
 
 use crate::machine::Machine;
 use crate::models::ModelError;
 use delay_stability::frequency::{CriticalPoint, Lobes, MultiFrequency, Receptance, ZeroOrder2d};
-use delay_stability::{Bifurcation, BisectionOptions, LobePoint};
+use delay_stability::{Bifurcation, LobeOptions, LobePoint, Method as Discretisation, lobes_with};
 use std::fmt::Write as _;
 
 /// Relative disagreement that is reported (5 %).
@@ -50,6 +53,12 @@ impl Method {
     pub fn for_immersion(m: &Machine) -> Method {
         if m.is_low_immersion() { Method::MultiFrequency } else { Method::ZeroOrder }
     }
+}
+
+/// The time-periodic method of a user's choice: converged ([`Discretisation::default`]) unless
+/// a semi-discretisation order `sd_m` is given.
+pub fn discretisation(sd_m: Option<usize>) -> Discretisation {
+    sd_m.map_or_else(Discretisation::default, |m| Discretisation::Sd { m })
 }
 
 /// The frequency band of the chatter search \[Hz\]: 1 Hz (the actuator's suspension) to 3× the
@@ -111,13 +120,13 @@ pub struct MachineLobes {
     pub zero_order: Vec<CriticalPoint>,
     /// Multi-frequency boundary per speed.
     pub multi_frequency: Vec<CriticalPoint>,
-    /// Semi-discretisation boundary per speed (with the kind of instability).
+    /// Time-periodic boundary per speed (with the kind of instability), by `discretisation`.
     pub sd: Vec<LobePoint>,
-    /// The semi-discretisation's m.
-    pub sd_m: usize,
+    /// The discretisation of the time-periodic boundary (converged by default).
+    pub discretisation: Discretisation,
 }
 
-/// One speed where a method disagrees with the semi-discretisation by more than [`TOLERANCE`].
+/// One speed where a method disagrees with the time-periodic boundary by more than [`TOLERANCE`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Disagreement {
     /// Index of the speed in the grid.
@@ -126,19 +135,20 @@ pub struct Disagreement {
     pub rpm: f64,
     /// The method.
     pub method: Method,
-    /// Its depth / the semi-discretisation's.
+    /// Its depth / the time-periodic boundary's.
     pub ratio: f64,
-    /// The semi-discretisation's kind of instability there.
+    /// The time-periodic boundary's kind of instability there.
     pub kind: Option<Bifurcation>,
 }
 
 impl MachineLobes {
-    /// Compute the open-loop lobes at `speeds` with semi-discretisation order `sd_m`;
-    /// `progress(done, total)` after each SD speed.
+    /// Compute the open-loop lobes at `speeds`, the time-periodic boundary by `discretisation`
+    /// ([`Discretisation::default`]: converged); `progress(done, total)` after each
+    /// time-periodic speed.
     pub fn compute(
         m: &Machine,
         speeds: &[f64],
-        sd_m: usize,
+        discretisation: Discretisation,
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<MachineLobes, ModelError> {
         let frf = |w: f64| m.receptance(w);
@@ -146,18 +156,23 @@ impl MachineLobes {
         let multi_frequency = frequency_diagram(m, Method::MultiFrequency, &frf, speeds)?;
         let model = m.sd_model()?;
         let lo = zero_order.iter().chain(&multi_frequency).map(|p| p.depth).fold(f64::INFINITY, f64::min);
-        let o =
-            BisectionOptions { m: sd_m, start: (lo * 0.05).clamp(1e-6, 1e-3), growth: 1.1, max: 0.1, rel_tol: 1e-4 };
-        let sd = delay_stability::lobes(speeds, |rpm, a| model.at(rpm, a), &o, progress)?;
-        Ok(MachineLobes { speeds: speeds.to_vec(), zero_order, multi_frequency, sd, sd_m })
+        let o = LobeOptions {
+            method: discretisation,
+            start: (lo * 0.05).clamp(1e-6, 1e-3),
+            growth: 1.1,
+            max: 0.1,
+            rel_tol: 1e-4,
+        };
+        let sd = lobes_with(speeds, |rpm, a| model.at(rpm, a), &o, progress)?;
+        Ok(MachineLobes { speeds: speeds.to_vec(), zero_order, multi_frequency, sd, discretisation })
     }
 
-    /// The semi-discretisation depth at speed index `i` \[m\] (∞ if stable up to the scan's end).
+    /// The time-periodic depth at speed index `i` \[m\] (∞ if stable up to the scan's end).
     pub fn sd_depth(&self, i: usize) -> f64 {
         self.sd[i].critical.value.unwrap_or(f64::INFINITY)
     }
 
-    /// Every speed and method that disagrees with the semi-discretisation by more than
+    /// Every speed and method that disagrees with the time-periodic boundary by more than
     /// [`TOLERANCE`].
     pub fn disagreements(&self) -> Vec<Disagreement> {
         let mut out = Vec::new();
@@ -181,7 +196,7 @@ impl MachineLobes {
         out
     }
 
-    /// Flip (period-doubling) lobes of the semi-discretisation: indices of the speeds where the
+    /// Flip (period-doubling) lobes of the time-periodic boundary: indices of the speeds where the
     /// critical multiplier is −1.
     pub fn flip_speeds(&self) -> Vec<usize> {
         (0..self.sd.len()).filter(|&i| self.sd[i].critical.kind() == Some(Bifurcation::Flip)).collect()
@@ -223,7 +238,7 @@ impl MachineLobes {
         let _ = writeln!(s, "| method | smallest critical depth (mm) | at (rpm) |\n|---|---|---|");
         let _ = writeln!(s, "| zero-order (2-D) | {:.3} | {zr:.0} |", zo * 1e3);
         let _ = writeln!(s, "| multi-frequency | {:.3} | {mr:.0} |", mf * 1e3);
-        let _ = writeln!(s, "| semi-discretisation (m = {}) | {:.3} | {sr:.0} |", self.sd_m, sd * 1e3);
+        let _ = writeln!(s, "| time-periodic, {} | {:.3} | {sr:.0} |", self.discretisation, sd * 1e3);
         let d = self.disagreements();
         if d.is_empty() {
             let _ = writeln!(s, "\nAll three methods agree within {:.0} % at every speed.", TOLERANCE * 100.0);
@@ -240,16 +255,16 @@ impl MachineLobes {
                     .any(|x| x.method == method && (x.ratio > 1.0) == unsafe_side && x.kind == Some(Bifurcation::Flip));
                 let _ = writeln!(
                     s,
-                    "\n{} lies more than {:.0} % {} the semi-discretisation at {}{}. {}",
+                    "\n{} lies more than {:.0} % {} the time-periodic boundary at {}{}. {}",
                     method.name(),
                     TOLERANCE * 100.0,
                     if unsafe_side { "ABOVE (unsafe: it claims a deeper stable cut)" } else { "below (conservative)" },
                     runs.join(", "),
                     if flips { " (flip lobes there)" } else { "" },
                     if unsafe_side {
-                        "Trust the semi-discretisation there: it keeps the time-periodic cutting force that the averaged (zero-order) or truncated (multi-frequency) forms approximate."
+                        "Trust the time-periodic boundary there: it keeps the time-periodic cutting force that the averaged (zero-order) or truncated (multi-frequency) forms approximate."
                     } else {
-                        "The semi-discretisation is the reference."
+                        "The time-periodic boundary is the reference."
                     }
                 );
             }
@@ -258,7 +273,7 @@ impl MachineLobes {
         if !flips.is_empty() {
             let _ = writeln!(
                 s,
-                "\nFlip (period-doubling) lobes by semi-discretisation at {}.",
+                "\nFlip (period-doubling) lobes of the time-periodic boundary at {}.",
                 ranges_of(&flips, &self.speeds).join(", ")
             );
         }

@@ -6,7 +6,7 @@ use crate::fmus::{FmuCheck, Growth};
 use crate::machine::Machine;
 use crate::models::ModelError;
 use chatter_control::{ControllerParams, Structure};
-use delay_stability::{Bifurcation, BisectionOptions, critical_value};
+use delay_stability::{Bifurcation, LobeOptions, Method, critical};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -111,13 +111,15 @@ pub fn controller_for(m: &Machine, name: &str) -> Result<Option<(String, Control
     )))
 }
 
-/// A semi-discretisation boundary checked through the FMUs.
+/// A time-periodic boundary checked through the FMUs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Validation {
     /// Speed \[rpm\].
     pub rpm: f64,
     /// The boundary \[m\].
     pub boundary: f64,
+    /// The discretisation that gave it.
+    pub method: Method,
     /// Its kind (Hopf, flip).
     pub kind: Option<Bifurcation>,
     /// The run at 0.97 of it.
@@ -135,10 +137,11 @@ impl Validation {
     /// One line for a report.
     pub fn line(&self) -> String {
         format!(
-            "validate {:.0} rpm through the FMUs: SD boundary {:.3} mm ({}); at 0.97× growth ratio {:.3} ({}), at 1.03× {:.3} ({}): {}",
+            "validate {:.0} rpm through the FMUs: boundary {:.3} mm ({}; {}); at 0.97× growth ratio {:.3} ({}), at 1.03× {:.3} ({}): {}",
             self.rpm,
             self.boundary * 1e3,
             self.kind.map_or("?", |k| k.name()),
+            self.method,
             self.below.ratio,
             if self.below.ratio < 1.0 { "decays" } else { "grows" },
             self.above.ratio,
@@ -148,16 +151,16 @@ impl Validation {
     }
 }
 
-/// The semi-discretisation boundary at `rpm` (order `sd_m`), run through the FMUs at 0.97 and
-/// 1.03 of it for 200 tooth periods (0.3–1 s); None if stable up to 100 mm.
-pub fn validate(m: &Machine, rpm: f64, sd_m: usize) -> Result<Option<Validation>, ModelError> {
+/// The time-periodic boundary at `rpm` by `method` ([`Method::default`]: converged), run through
+/// the FMUs at 0.97 and 1.03 of it for 200 tooth periods (0.3–1 s); None if stable up to 100 mm.
+pub fn validate(m: &Machine, rpm: f64, method: Method) -> Result<Option<Validation>, ModelError> {
     let model = m.sd_model()?;
-    let o = BisectionOptions { m: sd_m, start: 1e-5, growth: 1.1, max: 0.1, rel_tol: 1e-4 };
-    let c = critical_value(|a| model.at(rpm, a), &o)?;
+    let o = LobeOptions { method, start: 1e-5, growth: 1.1, max: 0.1, rel_tol: 1e-4 };
+    let c = critical(|a| model.at(rpm, a), &o)?;
     let Some(b) = c.value else { return Ok(None) };
     let check = FmuCheck::new(m, &fmu_dir(), None);
     let duration = (200.0 * 60.0 / (rpm * m.tool.teeth as f64)).clamp(0.3, 1.0);
     let below = check.growth(rpm, 0.97 * b, duration)?;
     let above = check.growth(rpm, 1.03 * b, duration)?;
-    Ok(Some(Validation { rpm, boundary: b, kind: c.kind(), below, above }))
+    Ok(Some(Validation { rpm, boundary: b, method, kind: c.kind(), below, above }))
 }

@@ -248,10 +248,11 @@ pub fn design(
         None => (theta0.to_vec(), 0.0, f64::NAN, f64::NAN, 0),
     };
     let controller = par.controller(&theta, 1.0);
-    let check = if abar > 0.0 {
-        mu_check(&make(abar), &par, &theta, &o.dk.check_hz, 2 * o.dk.d_iter).map_err(inv)?
-    } else {
-        (f64::NAN, f64::NAN)
+    // the bisection checked the best design on the check grid already (the same computation)
+    let check = match &best {
+        Some(b) if !b.check.0.is_nan() => b.check,
+        Some(_) => mu_check(&make(abar), &par, &theta, &o.dk.check_hz, 2 * o.dk.d_iter).map_err(inv)?,
+        None => (f64::NAN, f64::NAN),
     };
     progress(&format!("{}: SD box check", case.name()));
     let lobes = sd_check(case, Some(&controller), o)?;

@@ -181,4 +181,86 @@ impl PeriodicDde for MillingDde<'_> {
         bd.columns_mut(r, m.e0.ncols()).copy_from(&m.e0);
         (a, bd)
     }
+    /// Where a tooth enters or leaves the cut or `sin φ` of a tooth changes sign.
+    fn breakpoints(&self) -> Vec<f64> {
+        let c = &self.model.cutter;
+        let w = 2.0 * PI * self.rpm / 60.0;
+        let period = self.period();
+        let mut out = Vec::new();
+        for j in 0..c.teeth {
+            let off = j as f64 * c.pitch();
+            for e in [0.0, PI, c.entry, c.exit] {
+                let t = (e - off).rem_euclid(2.0 * PI) / w;
+                if t > 1e-12 * period && t < period * (1.0 - 1e-12) {
+                    out.push(t);
+                }
+            }
+        }
+        out.sort_by(f64::total_cmp);
+        out.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * period);
+        out
+    }
+    /// Power law only: where a tooth enters at `φ = 0` or leaves at `φ = π` (zero static chip,
+    /// so `h^{x_F − 1}` is unbounded there).
+    fn singularities(&self) -> Vec<f64> {
+        let c = &self.model.cutter;
+        if !matches!(c.law, super::ForceLaw::Power { x_f, .. } if x_f < 1.0) {
+            return Vec::new();
+        }
+        let w = 2.0 * PI * self.rpm / 60.0;
+        let period = self.period();
+        let mut out = Vec::new();
+        for j in 0..c.teeth {
+            let off = j as f64 * c.pitch();
+            // exactly 0 and π: the immersion's angles are set, not computed, at full immersion
+            #[allow(clippy::float_cmp)]
+            let ends = [(0.0, c.entry == 0.0), (PI, c.exit == PI)];
+            for (e, at) in ends {
+                if at {
+                    let t = (e - off).rem_euclid(2.0 * PI) / w;
+                    // a point within rounding of the period end is the period start
+                    if t <= 1e-12 * period || (t - period).abs() <= 1e-12 * period {
+                        out.push(0.0);
+                    } else if t < period {
+                        out.push(t);
+                    }
+                }
+            }
+        }
+        out.sort_by(f64::total_cmp);
+        out.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * period);
+        out
+    }
+    /// `A₀ = S₀`, `G = [B̂_t, E₀]`, `C₀ = Ĉ_t` (kept rows): `P = [a_p H_keep; 0]`,
+    /// `Q = [[−a_p H_keep, 0], [0, I]]` (module docs of [`crate::milling`]).
+    fn splitting(&self) -> Option<crate::Splitting> {
+        let m = self.model;
+        let (n, q) = (m.dim(), m.e0.ncols());
+        let mut g = DMatrix::zeros(n, 2 + q);
+        g.columns_mut(0, 2).copy_from(&m.bt);
+        g.columns_mut(2, q).copy_from(&m.e0);
+        let mut c0 = DMatrix::zeros(m.keep.len(), n);
+        for (i, &k) in m.keep.iter().enumerate() {
+            c0.row_mut(i).copy_from(&m.ct.row(k));
+        }
+        Some(crate::Splitting { a0: m.s0.clone(), g, c0 })
+    }
+    fn gains(&self, t: f64) -> (DMatrix<f64>, DMatrix<f64>) {
+        let m = self.model;
+        let w = 2.0 * PI * self.rpm / 60.0;
+        let h = m.cutter.directional(w * t);
+        let (p, q) = (m.keep.len(), m.e0.ncols());
+        let mut pm = DMatrix::zeros(2 + q, p);
+        let mut qm = DMatrix::zeros(2 + q, p + q);
+        for (i, &k) in m.keep.iter().enumerate() {
+            for d in 0..2 {
+                pm[(d, i)] = self.depth * h[(d, k)];
+                qm[(d, i)] = -self.depth * h[(d, k)];
+            }
+        }
+        for i in 0..q {
+            qm[(2 + i, p + i)] = 1.0;
+        }
+        (pm, qm)
+    }
 }
