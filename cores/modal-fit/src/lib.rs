@@ -13,6 +13,8 @@
 //! 3. [`lsfd`]: the residues of the chosen poles by linear least squares on every FRF, with a
 //!    lower residual (the modes below the band, `−LR/ω²`) and an upper residual (the modes above
 //!    it, a constant).
+//!    The picked poles are then refined ([`refine`]): the same error, now minimised over the
+//!    poles too (variable projection), which removes the linearised LSCF's damping bias.
 //! 4. [`modes`]: residues to modal parameters: natural frequency, damping ratio, mass-normalised
 //!    shape at the tool point (x, y), the modal stiffness along the shape, and a fit-quality
 //!    number (the relative RMS error of the synthesised FRFs).
@@ -23,6 +25,7 @@
 pub mod lscf;
 pub mod lsfd;
 pub mod modes;
+pub mod refine;
 pub mod stabilisation;
 
 use num_complex::Complex64;
@@ -43,6 +46,7 @@ pub fn identify(
     if poles.is_empty() {
         return Err(FitError::Data("no pole is stable over the orders: widen the band or raise the orders".into()));
     }
+    let poles = refine::refine(frf, band, &poles, 50)?;
     let residues = lsfd::residues(frf, band, &poles)?;
     let modes = modes::modes(&residues, pairs);
     let error = residues.fit_error(frf);
@@ -143,7 +147,9 @@ pub(crate) mod tests {
             (650.0, 0.035, [0.0, s(2.5e7, 650.0)]),
             (1100.0, 0.02, [s(5e7, 1100.0) * 0.8, s(5e7, 1100.0) * 0.6]),
         ];
-        for (name, truth, band) in [("two modes", two_modes(), (200.0, 1500.0)), ("three modes", three, (200.0, 2000.0))] {
+        for (name, truth, band) in
+            [("two modes", two_modes(), (200.0, 1500.0)), ("three modes", three, (200.0, 2000.0))]
+        {
             for seed in [1, 2, 3] {
                 let (_, frf) = synthetic(&truth, 0.05, seed);
                 let id = identify(&frf, band, (8..=40).step_by(2), &[(0, 0), (0, 1), (1, 0), (1, 1)]).unwrap();
@@ -151,7 +157,10 @@ pub(crate) mod tests {
                 for (m, (f, z, shape)) in id.modes.iter().zip(&truth) {
                     let k_true = (2.0 * std::f64::consts::PI * f).powi(2) / (shape[0].powi(2) + shape[1].powi(2));
                     let (ef, ez, ek) = (m.frequency_hz / f - 1.0, m.damping / z - 1.0, m.stiffness() / k_true - 1.0);
-                    assert!(ef.abs() < 0.005 && ez.abs() < 0.10 && ek.abs() < 0.05, "{name} seed {seed}: {m:?} vs {f} Hz {z} {k_true:e}: {ef:.4} {ez:.4} {ek:.4}");
+                    assert!(
+                        ef.abs() < 0.005 && ez.abs() < 0.10 && ek.abs() < 0.05,
+                        "{name} seed {seed}: {m:?} vs {f} Hz {z} {k_true:e}: {ef:.4} {ez:.4} {ek:.4}"
+                    );
                     let (dir, true_dir) = (m.direction(), [shape[0], shape[1]]);
                     let cos = (dir[0] * true_dir[0] + dir[1] * true_dir[1]).abs() / true_dir[0].hypot(true_dir[1]);
                     assert!(cos > 0.99, "{name}: direction {dir:?} vs {true_dir:?}");

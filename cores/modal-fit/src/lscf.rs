@@ -107,7 +107,10 @@ mod tests {
         let (modes, frf) = synthetic(&two_modes(), 0.0, 1);
         let p = poles(&frf, (100.0, 2000.0), 16).unwrap();
         for m in &modes {
-            let best = p.iter().min_by(|a, b| (a.frequency_hz() - m.0).abs().total_cmp(&(b.frequency_hz() - m.0).abs())).unwrap();
+            let best = p
+                .iter()
+                .min_by(|a, b| (a.frequency_hz() - m.0).abs().total_cmp(&(b.frequency_hz() - m.0).abs()))
+                .unwrap();
             assert!((best.frequency_hz() / m.0 - 1.0).abs() < 1e-7, "{best:?} vs {m:?}");
             assert!((best.damping() / m.1 - 1.0).abs() < 1e-6, "{best:?} vs {m:?}");
         }

@@ -70,7 +70,13 @@ pub fn modes(res: &Residues, pairs: &[Pair]) -> Vec<Mode> {
                 if top <= 0.0 {
                     [0.0, 0.0]
                 } else {
-                    let v = if c.abs() > 0.0 { [top - b, c] } else if a >= b { [1.0, 0.0] } else { [0.0, 1.0] };
+                    let v = if c.abs() > 0.0 {
+                        [top - b, c]
+                    } else if a >= b {
+                        [1.0, 0.0]
+                    } else {
+                        [0.0, 1.0]
+                    };
                     let n = v[0].hypot(v[1]);
                     let s = top.sqrt() / n;
                     [v[0] * s, v[1] * s]

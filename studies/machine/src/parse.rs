@@ -1,10 +1,10 @@
 //! Reading each table of a machine file ([`crate::machine`]): the quantity fields with their
 //! dimensions, physical ranges and likely unit slips, and the checks between fields.
 
+use crate::frf::MeasuredFrf;
 use crate::machine::{
     Actuator, Axis, ControllerChoice, Law, Machine, Material, Milling, Mode, Operation, Tool, VERSION,
 };
-use crate::frf::MeasuredFrf;
 use crate::read::{Field, MachineError, Node};
 use crate::units::{self, FORCE, FREQUENCY, LENGTH, MASS, ONE, PRESSURE, STIFFNESS};
 use std::f64::consts::PI;
@@ -304,7 +304,10 @@ pub(crate) fn read_structure(root: &Node<'_>, base: &Path) -> Result<(Vec<Mode>,
             a.iter().filter_map(|v| v.as_str().map(String::from)).collect()
         }
         Some(_) => {
-            return Err(s.err("frf", "a file name or a list of them (CSV or UFF 58), e.g. frf = [\"tap_xx.csv\", \"tap_yy.csv\"]"));
+            return Err(s.err(
+                "frf",
+                "a file name or a list of them (CSV or UFF 58), e.g. frf = [\"tap_xx.csv\", \"tap_yy.csv\"]",
+            ));
         }
     };
     let frf = if files.is_empty() {

@@ -44,7 +44,9 @@ fn column(file: &str, line: usize, index: usize, cell: &str) -> Result<Column, F
     let (name, unit) = name_and_unit(cell);
     if index == 0 {
         if !["frequency", "freq", "f"].contains(&name.as_str()) {
-            return Err(err(format!("the first column is {cell:?}: it must be the frequency, e.g. a header {EXAMPLE:?}")));
+            return Err(err(format!(
+                "the first column is {cell:?}: it must be the frequency, e.g. a header {EXAMPLE:?}"
+            )));
         }
         let unit = unit.ok_or_else(|| err(format!("column {cell:?} names no unit: write \"frequency [Hz]\"")))?;
         let factor = match unit.as_str() {
@@ -58,7 +60,10 @@ fn column(file: &str, line: usize, index: usize, cell: &str) -> Result<Column, F
     let mut words = name.split_whitespace();
     let (p, part) = (words.next().unwrap_or(""), words.next().unwrap_or(""));
     let pair = Pair::parse(p).ok_or_else(|| {
-        err(format!("column {} is {cell:?}: name its direction pair (xx, xy, yx or yy), e.g. \"xx real [m/N]\"", index + 1))
+        err(format!(
+            "column {} is {cell:?}: name its direction pair (xx, xy, yx or yy), e.g. \"xx real [m/N]\"",
+            index + 1
+        ))
     })?;
     let imag = match part {
         "real" | "re" => false,
@@ -72,16 +77,21 @@ fn column(file: &str, line: usize, index: usize, cell: &str) -> Result<Column, F
             )));
         }
     };
-    let unit = unit.ok_or_else(|| err(format!("column {cell:?} names no unit: write e.g. \"{} real [m/N]\"", pair.name())))?;
+    let unit =
+        unit.ok_or_else(|| err(format!("column {cell:?} names no unit: write e.g. \"{} real [m/N]\"", pair.name())))?;
     let (kind, factor) = frf_unit(&unit).map_err(|m| err(format!("column {cell:?}: {m}")))?;
     Ok(Column::Part { pair, imag, kind, factor })
 }
 
 /// Parse a CSV file's bytes (`file` names it in errors).
 pub fn parse(bytes: &[u8], file: &str) -> Result<MeasuredFrf, FrfError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| FrfError::at(file, None, format!("not UTF-8 text ({e}): is it a UFF file? name it .uff")))?;
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim())).filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    let (hline, header) = lines.next().ok_or_else(|| FrfError::at(file, None, format!("no header: the first line must name the columns, e.g. {EXAMPLE:?}")))?;
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| FrfError::at(file, None, format!("not UTF-8 text ({e}): is it a UFF file? name it .uff")))?;
+    let mut lines =
+        text.lines().enumerate().map(|(i, l)| (i + 1, l.trim())).filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let (hline, header) = lines.next().ok_or_else(|| {
+        FrfError::at(file, None, format!("no header: the first line must name the columns, e.g. {EXAMPLE:?}"))
+    })?;
     let sep = [',', ';', '\t'].into_iter().max_by_key(|c| header.matches(*c).count()).expect("three separators");
     let cols: Vec<Column> =
         header.split(sep).enumerate().map(|(i, c)| column(file, hline, i, c)).collect::<Result<_, _>>()?;
@@ -96,14 +106,24 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<MeasuredFrf, FrfError> {
             return Err(FrfError::at(file, Some(hline), format!("column {} is a second frequency column", i + 1)));
         };
         match pairs.iter_mut().find(|p| p.0 == pair) {
-            None => pairs.push((pair, kind, factor, if imag { usize::MAX } else { i }, if imag { i } else { usize::MAX })),
+            None => {
+                pairs.push((pair, kind, factor, if imag { usize::MAX } else { i }, if imag { i } else { usize::MAX }))
+            }
             Some(p) => {
                 let slot = if imag { &mut p.4 } else { &mut p.3 };
                 if *slot != usize::MAX {
-                    return Err(FrfError::at(file, Some(hline), format!("two {} {} columns", pair.name(), if imag { "imag" } else { "real" })));
+                    return Err(FrfError::at(
+                        file,
+                        Some(hline),
+                        format!("two {} {} columns", pair.name(), if imag { "imag" } else { "real" }),
+                    ));
                 }
                 if p.1 != kind || p.2 != factor {
-                    return Err(FrfError::at(file, Some(hline), format!("the {} real and imag columns have different units", pair.name())));
+                    return Err(FrfError::at(
+                        file,
+                        Some(hline),
+                        format!("the {} real and imag columns have different units", pair.name()),
+                    ));
                 }
                 *slot = i;
             }
@@ -114,7 +134,11 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<MeasuredFrf, FrfError> {
     }
     if let Some(p) = pairs.iter().find(|p| p.3 == usize::MAX || p.4 == usize::MAX) {
         let missing = if p.3 == usize::MAX { "real" } else { "imag" };
-        return Err(FrfError::at(file, Some(hline), format!("{} has no {missing} column: give both parts", p.0.name())));
+        return Err(FrfError::at(
+            file,
+            Some(hline),
+            format!("{} has no {missing} column: give both parts", p.0.name()),
+        ));
     }
     let mut freq = Vec::new();
     let mut line_no = Vec::new();
@@ -125,13 +149,17 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<MeasuredFrf, FrfError> {
             return Err(FrfError::at(
                 file,
                 Some(n),
-                format!("{} values, but the header has {} columns: every row needs all of them", cells.len(), cols.len()),
+                format!(
+                    "{} values, but the header has {} columns: every row needs all of them",
+                    cells.len(),
+                    cols.len()
+                ),
             ));
         }
         let num = |i: usize| -> Result<f64, FrfError> {
-            cells[i].parse::<f64>().map_err(|_| {
-                FrfError::at(file, Some(n), format!("column {} is {:?}: not a number", i + 1, cells[i]))
-            })
+            cells[i]
+                .parse::<f64>()
+                .map_err(|_| FrfError::at(file, Some(n), format!("column {} is {:?}: not a number", i + 1, cells[i])))
         };
         freq.push(num(0)? * freq_factor);
         for (v, p) in values.iter_mut().zip(&pairs) {
@@ -180,7 +208,10 @@ mod tests {
 
     #[test]
     fn reads_units_and_round_trips() {
-        let text = format!("# a tap test\nfrequency [Hz],xx real [um/N],xx imag [um/N]\n{}", rows(10, |k| format!("{k},{}.5,-1", k)));
+        let text = format!(
+            "# a tap test\nfrequency [Hz],xx real [um/N],xx imag [um/N]\n{}",
+            rows(10, |k| format!("{k},{}.5,-1", k))
+        );
         let m = read(&text).unwrap();
         assert_eq!(m.freq_hz.len(), 10);
         assert!((m.h[&Pair(0, 0)][2] - Complex64::new(3.5e-6, -1e-6)).norm() < 1e-18);
@@ -199,7 +230,9 @@ mod tests {
         assert_eq!(m.freq_hz[0], 1.0);
         let w = 2.0 * std::f64::consts::PI;
         assert!((m.h[&Pair(1, 1)][0].re + 9.80665 / (w * w)).abs() < 1e-15);
-        assert!(m.notes.iter().any(|n| n.contains("0 Hz row dropped")) && m.notes.iter().any(|n| n.contains("accelerance")));
+        assert!(
+            m.notes.iter().any(|n| n.contains("0 Hz row dropped")) && m.notes.iter().any(|n| n.contains("accelerance"))
+        );
     }
 
     #[test]
@@ -207,10 +240,16 @@ mod tests {
         let head = "frequency [Hz],xx real [m/N],xx imag [m/N]\n";
         let ok = |k: usize| format!("{k},1e-7,-1e-7");
         let cases: Vec<(String, &str)> = vec![
-            (format!("{head}{}\n3,1e-7,-1e-7", rows(9, ok)), "tap.csv:11: frequency 3 Hz after 9 Hz: the frequencies must increase"),
+            (
+                format!("{head}{}\n3,1e-7,-1e-7", rows(9, ok)),
+                "tap.csv:11: frequency 3 Hz after 9 Hz: the frequencies must increase",
+            ),
             (format!("{head}{}\n10,nan,0", rows(9, ok)), "tap.csv:11: xx at 10 Hz is NaN"),
             (format!("{head}{}\n10,1e-7", rows(9, ok)), "tap.csv:11: 2 values, but the header has 3 columns"),
-            (format!("frequency [Hz],xx real [N/m],xx imag [N/m]\n{}", rows(10, ok)), "tap.csv:1: column \"xx real [N/m]\": unit \"N/m\" is a stiffness"),
+            (
+                format!("frequency [Hz],xx real [N/m],xx imag [N/m]\n{}", rows(10, ok)),
+                "tap.csv:1: column \"xx real [N/m]\": unit \"N/m\" is a stiffness",
+            ),
             (format!("frequency [Hz],real [m/N],imag [m/N]\n{}", rows(10, ok)), "name its direction pair"),
             (format!("frequency,xx real [m/N],xx imag [m/N]\n{}", rows(10, ok)), "names no unit"),
             (format!("{head}{}\n10,1e-7,abc", rows(9, ok)), "tap.csv:11: column 3 is \"abc\": not a number"),

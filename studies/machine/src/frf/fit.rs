@@ -30,9 +30,8 @@ pub const COMPLEX_MODE: f64 = 0.2;
 /// The default band: where the driving points' summed magnitude is above 5 % of its peak,
 /// widened by 30 % of that span on each side and kept within the data.
 pub fn auto_band(frf: &MeasuredFrf) -> (f64, f64) {
-    let s: Vec<f64> = (0..frf.freq_hz.len())
-        .map(|k| frf.h[&Pair(0, 0)][k].norm() + frf.h[&Pair(1, 1)][k].norm())
-        .collect();
+    let s: Vec<f64> =
+        (0..frf.freq_hz.len()).map(|k| frf.h[&Pair(0, 0)][k].norm() + frf.h[&Pair(1, 1)][k].norm()).collect();
     let peak = s.iter().copied().fold(0.0, f64::max);
     let above: Vec<f64> = frf.freq_hz.iter().zip(&s).filter(|(_, v)| **v >= 0.05 * peak).map(|(f, _)| *f).collect();
     let (lo, hi) = (above[0], above[above.len() - 1]);
@@ -89,7 +88,9 @@ pub fn fit(frf: &MeasuredFrf, o: &FitOptions) -> Result<FrfFit, FitError> {
         }
     }
     if !frf.has_cross() && modes.iter().any(|m| m.shape[0].abs() > 0.05 && m.shape[1].abs() > 0.05) {
-        notes.push("a mode shows in both xx and yy but no cross FRF was measured: its coupling's sign is taken as +".into());
+        notes.push(
+            "a mode shows in both xx and yy but no cross FRF was measured: its coupling's sign is taken as +".into(),
+        );
     }
     let dropped = id.residues.poles.len() - id.modes.len();
     if dropped > 0 {
@@ -110,7 +111,12 @@ impl FrfFit {
     pub fn fitted(&self, frf: &MeasuredFrf, full: bool) -> MeasuredFrf {
         let idx = modal_fit::Frfs { freq_hz: frf.freq_hz.clone(), outputs: vec![] }.band(self.band_hz);
         let freq_hz: Vec<f64> = frf.freq_hz[idx].to_vec();
-        let h = self.pairs.iter().enumerate().map(|(o, p)| (*p, freq_hz.iter().map(|f| self.value(o, *f, full)).collect())).collect();
+        let h = self
+            .pairs
+            .iter()
+            .enumerate()
+            .map(|(o, p)| (*p, freq_hz.iter().map(|f| self.value(o, *f, full)).collect()))
+            .collect();
         MeasuredFrf {
             source: format!("fit of {}", frf.source),
             freq_hz,
@@ -134,7 +140,10 @@ impl FrfFit {
             self.id.error * 100.0,
             self.modal_error(frf) * 100.0
         );
-        let _ = writeln!(s, "| mode | frequency (Hz) | damping ratio | stiffness (N/m) | mass (kg) | direction (x, y) | complexity |");
+        let _ = writeln!(
+            s,
+            "| mode | frequency (Hz) | damping ratio | stiffness (N/m) | mass (kg) | direction (x, y) | complexity |"
+        );
         let _ = writeln!(s, "|---|---|---|---|---|---|---|");
         for (i, (m, raw)) in self.modes.iter().zip(&self.id.modes).enumerate() {
             let _ = writeln!(

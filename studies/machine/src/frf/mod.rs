@@ -19,6 +19,7 @@
 pub mod csv;
 pub mod fit;
 pub mod plots;
+pub mod synth;
 pub mod uff;
 
 use delay_stability::frequency::Receptance;
@@ -320,7 +321,12 @@ pub(crate) fn check_rows(
                 return Err(FrfError::at(
                     file,
                     line_of(k),
-                    format!("{} at {} Hz is {}: every value must be a finite number (remove or re-measure the row)", p.name(), freq[k], h[k]),
+                    format!(
+                        "{} at {} Hz is {}: every value must be a finite number (remove or re-measure the row)",
+                        p.name(),
+                        freq[k],
+                        h[k]
+                    ),
                 ));
             }
         }
@@ -343,7 +349,11 @@ pub(crate) fn to_receptance(
     let mut h = BTreeMap::new();
     for (pair, kind, factor, values) in columns {
         if kind != Kind::Receptance {
-            notes.push(format!("{file}: {} converted from {} to receptance (H = H_v/(iω) or −H_a/ω²)", pair.name(), kind.name()));
+            notes.push(format!(
+                "{file}: {} converted from {} to receptance (H = H_v/(iω) or −H_a/ω²)",
+                pair.name(),
+                kind.name()
+            ));
         }
         let r: Vec<Complex64> = freq
             .iter()

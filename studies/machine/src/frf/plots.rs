@@ -66,8 +66,14 @@ fn draw_overlay(path: &Path, title: &str, frf: &MeasuredFrf, fit: &FrfFit) -> Re
             .axis_desc_style((FONT, 15))
             .draw()?;
         c.draw_series(meas.iter().map(|(f, h)| Circle::new((*f, h.norm().max(lo)), 2, GREY.filled())))?;
-        c.draw_series(LineSeries::new(modal.iter().map(|(f, h)| (*f, h.norm().max(lo))), modes_colour.stroke_width(2)))?;
-        c.draw_series(LineSeries::new(full.iter().map(|(f, h)| (*f, h.norm().max(lo))), fitted_colour.stroke_width(2)))?;
+        c.draw_series(LineSeries::new(
+            modal.iter().map(|(f, h)| (*f, h.norm().max(lo))),
+            modes_colour.stroke_width(2),
+        ))?;
+        c.draw_series(LineSeries::new(
+            full.iter().map(|(f, h)| (*f, h.norm().max(lo))),
+            fitted_colour.stroke_width(2),
+        ))?;
         // phase
         let mut c = ChartBuilder::on(&panels[2 * o + 1])
             .margin(12)
@@ -141,7 +147,9 @@ fn draw_stabilisation(path: &Path, title: &str, frf: &MeasuredFrf, fit: &FrfFit)
     let k: Vec<usize> = (0..frf.freq_hz.len()).filter(|&k| (a..=b).contains(&frf.freq_hz[k])).collect();
     let s: Vec<f64> = k
         .iter()
-        .map(|&k| (frf.h[&super::Pair(0, 0)][k].norm() + frf.h[&super::Pair(1, 1)][k].norm()).max(f64::MIN_POSITIVE).log10())
+        .map(|&k| {
+            (frf.h[&super::Pair(0, 0)][k].norm() + frf.h[&super::Pair(1, 1)][k].norm()).max(f64::MIN_POSITIVE).log10()
+        })
         .collect();
     let (lo, hi) = s.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |acc, v| (acc.0.min(*v), acc.1.max(*v)));
     let scale = |v: f64| 1.0 + (top) * (v - lo) / (hi - lo).max(1e-12);
