@@ -37,8 +37,8 @@ use crate::noise::BandLimitedNoise;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// The most modes.
-pub const MAX_MODES: usize = 4;
+/// The most modes (the FMU declares four as parameters; a modal table holds up to this many).
+pub const MAX_MODES: usize = 16;
 
 /// Why the structure refused to start or to step.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -141,6 +141,7 @@ impl MachineLobes {
         sd_m: usize,
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<MachineLobes, ModelError> {
+        m.require_modes("the lobes of the modes (zero-order, multi-frequency, semi-discretisation)")?;
         let frf = |w: f64| m.receptance(w);
         let zero_order = frequency_diagram(m, Method::ZeroOrder, &frf, speeds)?;
         let multi_frequency = frequency_diagram(m, Method::MultiFrequency, &frf, speeds)?;
