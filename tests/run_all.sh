@@ -16,19 +16,21 @@ fi
 .venv/bin/python -m pip install --quiet --disable-pip-version-check -r tests/python/requirements.txt -r docs/requirements.txt
 export PATH="$root/.venv/bin:$PATH"
 
-step "toolchains of the FMU platforms (win64: mingw-w64, wine for the test)"
+step "toolchains of the FMU platforms (win64: mingw-w64, wine for the test) and libclang (rust-fmi's fmi-sys)"
 rustup target add x86_64-pc-windows-gnu
-if ! command -v x86_64-w64-mingw32-gcc >/dev/null || [ ! -x /usr/lib/wine/wine64 ]; then
+if ! command -v x86_64-w64-mingw32-gcc >/dev/null || [ ! -x /usr/lib/wine/wine64 ] \
+    || ! ls /usr/lib/llvm-*/lib/libclang.so >/dev/null 2>&1; then
     sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
     $sudo apt-get update -qq
+    # libclang-dev: the `fmi` crate's bindings (fmi-sys, bindgen) for tests/tests/rust_fmi.rs
     DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends \
-        gcc-mingw-w64-x86-64 binutils-mingw-w64-x86-64 wine64 >/dev/null
+        gcc-mingw-w64-x86-64 binutils-mingw-w64-x86-64 wine64 libclang-dev >/dev/null
 fi
 # every platform must be built and checked: a missing toolchain fails instead of skipping
 export FMU_PLATFORMS=linux64-portable,win64
 
 step "docs book (mkdocs build --strict: broken links and anchors fail; site in target/book)"
-.venv/bin/mkdocs build --strict -f docs/mkdocs.yml  # not --quiet: it hides the warnings that --strict counts
+.venv/bin/python -m mkdocs build --strict -f docs/mkdocs.yml  # not --quiet: it hides the warnings that --strict counts
 
 step "cargo fmt --check"
 cargo fmt --all --check

@@ -60,34 +60,34 @@ pub static TABLE: LazyLock<Table<AfracParams, AfracInputs, AfracOutputs>> = Lazy
             outputs AfracOutputs {
                 discrete 10 "spindle_speed" [spindle_speed] "rpm"    [] "spindle speed command N = 60/(T_ref + h), limited to [speed_min, speed_max] (held between samples)";
                 discrete 11 "feed"          [feed]          "mm/rev" [] "feed command f0 + delta_f, limited to [feed_min, feed_max]";
-                discrete 12 "beta"          [beta]          ""       [] "order of the fractional integrators at the last sample";
+                discrete 12 "beta"          [beta]          "1"       [] "order of the fractional integrators at the last sample";
                 discrete 13 "eps1"          [eps1]          "mm"     [] "error x - y1 against the reference delay model";
                 discrete 14 "eps2"          [eps2]          "mm/s"   [] "error v - y2";
                 discrete 15 "h"             [h]             "s"      [] "delay offset h = 60/N - T_ref before the speed limits";
                 discrete 16 "delta_feed"    [delta_feed]    "mm/rev" [] "feed change delta_f before the feed limits";
-                discrete 17 "G"             [g]             ""       [] "adaptation signal G = P12 z1 + P22 z2 (z = eps + Q*eps)";
+                discrete 17 "G"             [g]             "G"       [] "adaptation signal G = P12 z1 + P22 z2 (z = eps + Q*eps)";
             }
             parameters AfracParams {
                 100 "natural_frequency" [natural_frequency] "Hz"     [1e-3, 1e5]    "natural frequency f_n of the tool mode (reference model)";
-                101 "damping_ratio"     [damping_ratio]     ""       [0.0, 10.0]    "damping ratio zeta (reference model)";
+                101 "damping_ratio"     [damping_ratio]     "1"       [0.0, 10.0]    "damping ratio zeta (reference model)";
                 102 "kappa"             [kappa]             "1/mm"   [1e-9, 1e3]    "lumped cutting stiffness a2/(omega_n^2 w) at the initial feed";
                 103 "depth"             [depth]             "mm"     [1e-6, 1e3]    "depth of cut w (a2 of the reference model)";
-                104 "force_exponent"    [force_exponent]    ""       [1e-3, 0.999]  "force exponent Y (the feed law divides by Y - 1)";
+                104 "force_exponent"    [force_exponent]    "1"       [1e-3, 0.999]  "force exponent Y (the feed law divides by Y - 1)";
                 105 "edge_angle"        [edge_angle]        "deg"    [1e-3, 90.0]   "cutting edge angle K";
                 106 "initial_speed"     [initial_speed]     "rpm"    [1.0, 1e5]     "initial spindle speed N0";
                 107 "initial_feed"      [initial_feed]      "mm/rev" [1e-6, 100.0]  "initial feed f0";
                 108 "reference_speed"   [reference_speed]   "rpm"    [1.0, 1e5]     "speed of the reference delay model, 60/T_ref (must be stable at depth)";
                 109 "reference_y0"      [reference_y0]      "mm"     [-1e3, 1e3]    "initial displacement of the reference model (0: at rest)";
-                110 "lambda_feed"       [lambda_feed]       ""       [0.0, 1e14]    "feed adaptation gain lambda_2 (Eq. 20)";
-                111 "lambda_speed"      [lambda_speed]      ""       [0.0, 1e14]    "speed adaptation gain lambda_3 (Eq. 21)";
+                110 "lambda_feed"       [lambda_feed]       "lambda_2"       [0.0, 1e14]    "feed adaptation gain lambda_2 (Eq. 20)";
+                111 "lambda_speed"      [lambda_speed]      "lambda_3"       [0.0, 1e14]    "speed adaptation gain lambda_3 (Eq. 21)";
                 112 "Ts"                [sample_period]     "s"      [1e-6, 1e-2]   "sample period tau";
                 1   "beta_mode"         [enum schedule.mode] ""      []             "how the order beta of the integrators is chosen";
-                113 "beta_fixed"        [schedule.beta]     ""       [1.0, 2.0]     "order beta (beta_mode = fixed)";
-                114 "beta0"             [schedule.beta0]    ""       [1.0, 2.0]     "initial order beta0 (stepwise, Table 5: 1.9)";
-                115 "beta1"             [schedule.betas[0]] ""       [1.0, 2.0]     "order from t1 (stepwise)";
-                116 "beta2"             [schedule.betas[1]] ""       [1.0, 2.0]     "order from t2 (stepwise)";
-                117 "beta3"             [schedule.betas[2]] ""       [1.0, 2.0]     "order from t3 (stepwise)";
-                118 "beta4"             [schedule.betas[3]] ""       [1.0, 2.0]     "order from t4 (stepwise)";
+                113 "beta_fixed"        [schedule.beta]     "1"       [1.0, 2.0]     "order beta (beta_mode = fixed)";
+                114 "beta0"             [schedule.beta0]    "1"       [1.0, 2.0]     "initial order beta0 (stepwise, Table 5: 1.9)";
+                115 "beta1"             [schedule.betas[0]] "1"       [1.0, 2.0]     "order from t1 (stepwise)";
+                116 "beta2"             [schedule.betas[1]] "1"       [1.0, 2.0]     "order from t2 (stepwise)";
+                117 "beta3"             [schedule.betas[2]] "1"       [1.0, 2.0]     "order from t3 (stepwise)";
+                118 "beta4"             [schedule.betas[3]] "1"       [1.0, 2.0]     "order from t4 (stepwise)";
                 119 "t1"                [schedule.times[0]] "s"      [-1e9, 1e9]    "switch time t1 (stepwise, from the start)";
                 120 "t2"                [schedule.times[1]] "s"      [-1e9, 1e9]    "switch time t2";
                 121 "t3"                [schedule.times[2]] "s"      [-1e9, 1e9]    "switch time t3";

@@ -67,20 +67,20 @@ pub static TABLE: LazyLock<Table<MracParams, MracInputs, MracOutputs>> = LazyLoc
                 12 "f_hold"            [feed_hold]         "mm/s"   [] "FROH hold at the end of the last step";
                 discrete 13 "u_k"      [feed_sample]       "mm/s"   [] "last sample of the control law";
                 14 "F_m"               [reference_force]   "N"      [] "reference-model force (continuous model driven by the FROH of F_ref)";
-                discrete 15 "a_hat"    [a_hat]             ""       [] "RLS estimate of the pole a";
+                discrete 15 "a_hat"    [a_hat]             "1"       [] "RLS estimate of the pole a";
                 discrete 16 "b0_hat"   [b0_hat]            "N.s/mm" [] "RLS estimate of b0";
                 discrete 17 "b1_hat"   [b1_hat]            "N.s/mm" [] "RLS estimate of b1";
-                discrete 18 "zero_hat" [zero_hat]          ""       [] "estimated plant zero -b1/b0";
-                discrete 19 "design_skips" [design_skips]  ""       [] "samples at which the estimated zero was unstable and the previous controller kept";
+                discrete 18 "zero_hat" [zero_hat]          "1"       [] "estimated plant zero -b1/b0";
+                discrete 19 "design_skips" [design_skips]  "1"       [] "samples at which the estimated zero was unstable and the previous controller kept";
             }
             parameters MracParams {
-                100 "beta"           [beta]           ""       [-1.0, 1.0]     "FROH gain (0: ZOH, 1: FOH)";
+                100 "beta"           [beta]           "1"       [-1.0, 1.0]     "FROH gain (0: ZOH, 1: FOH)";
                 101 "Ts"             [sample_period]  "s"      [1e-6, 100.0]   "sample period T (one spindle period)";
-                102 "zeta"           [zeta]           ""       [1e-3, 10.0]    "reference-model damping ratio";
+                102 "zeta"           [zeta]           "1"       [1e-3, 10.0]    "reference-model damping ratio";
                 103 "omega_n"        [omega_n]        "rad/s"  [1e-6, 1e6]     "reference-model natural frequency";
-                104 "lambda"         [lambda]         ""       [1e-3, 1.0]     "RLS forgetting factor";
-                105 "p0"             [p0]             ""       [1e-12, 1e12]   "initial RLS covariance p0 I";
-                106 "trace_max"      [trace_max]      ""       [1e-12, 1e300]  "trace limit of the RLS covariance";
+                104 "lambda"         [lambda]         "1"       [1e-3, 1.0]     "RLS forgetting factor";
+                105 "p0"             [p0]             "1"       [1e-12, 1e12]   "initial RLS covariance p0 I";
+                106 "trace_max"      [trace_max]      "1"       [1e-12, 1e300]  "trace limit of the RLS covariance";
                 107 "gain_estimate"  [gain_estimate]  "N.s/mm" [1e-12, 1e12]   "initial model: process gain";
                 108 "tau_estimate"   [tau_estimate]   "s"      [1e-9, 100.0]   "initial model: chip time constant";
                 0   "adapt"          [adapt]          ""       []              "RLS on (off: keep the initial model)";

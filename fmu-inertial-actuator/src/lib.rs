@@ -41,15 +41,15 @@ pub static TABLE: LazyLock<Table<ActuatorParams, ActuatorInputs, ActuatorOutputs
                 0  "saturated" [saturated] ""  [] "the command was clipped at +-f_max over the last step";
             }
             parameters ActuatorParams {
-                130 "a11"             [a[0][0]]         ""    []           "A[1,1] (1/s)";
-                131 "a12"             [a[0][1]]         ""    []           "A[1,2] (1/s2)";
-                132 "a21"             [a[1][0]]         ""    []           "A[2,1]";
-                133 "a22"             [a[1][1]]         ""    []           "A[2,2]";
-                134 "b1"              [b[0]]            ""    []           "B[1]";
-                135 "b2"              [b[1]]            ""    []           "B[2]";
-                136 "c1"              [c[0]]            ""    []           "C[1]";
-                137 "c2"              [c[1]]            ""    []           "C[2]";
-                138 "d"               [d]               ""    []           "D (F/u at high frequency)";
+                130 "a11"             [a[0][0]]         "1/s"    []           "A[1,1] (1/s)";
+                131 "a12"             [a[0][1]]         "1/s2"    []           "A[1,2] (1/s2)";
+                132 "a21"             [a[1][0]]         "1"    []           "A[2,1]";
+                133 "a22"             [a[1][1]]         "1/s"    []           "A[2,2]";
+                134 "b1"              [b[0]]            "1"    []           "B[1]";
+                135 "b2"              [b[1]]            "s"    []           "B[2]";
+                136 "c1"              [c[0]]            "1/s"    []           "C[1]";
+                137 "c2"              [c[1]]            "1/s2"    []           "C[2]";
+                138 "d"               [d]               "1"    []           "D (F/u at high frequency)";
                 139 "f_max"           [f_max]           "N"   [0.0, 1e9]   "saturation of the command";
                 140 "direction_angle" [direction_angle] "rad" [-7.0, 7.0]  "direction of the force from +x towards +y";
                 141 "internal_step"   [internal_step]   "s"   [1e-8, 1e-3] "largest RK4 sub-step";

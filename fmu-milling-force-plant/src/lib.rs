@@ -44,7 +44,7 @@ pub static TABLE: LazyLock<Table<ForcePlantParams, ForcePlantInputs, ForcePlantO
                 100 "kc"             [kc]                "N/mm2" [1e-6, 1e6]  "specific cutting pressure K_c";
                 0   "teeth"          [teeth]             ""      [1, 1000]    "number of teeth N";
                 101 "spindle_speed"  [spindle_speed_rpm] "rpm"   [1e-3, 1e6]  "spindle speed";
-                102 "immersion"      [immersion]         ""      [0.0, 100.0] "immersion function S_t";
+                102 "immersion"      [immersion]         "1"      [0.0, 100.0] "immersion function S_t";
                 103 "tau_s"          [tau_s]             "s"     [0.0, 10.0]  "CNC feed-drive time constant (0: ideal drive)";
                 104 "tau_c"          [tau_c]             "s"     [1e-9, 100.0] "chip time constant";
                 1   "depth.segments" [depth.segments]    ""      [1, 8]       "number of depth segments used";

@@ -65,11 +65,11 @@ pub static TABLE: LazyLock<Table<ProcessParams, ProcessInputs, ProcessOutputs>> 
                 114 "axial_depth"           [axial_depth]            "m"   [0.0, 1.0]    "axial depth of cut a_p";
                 115 "depth_ramp_time"       [depth_ramp_time]        "s"   [0.0, 1e3]    "entry ramp: the depth rises linearly from 0 to a_p over this time after the start (0: at once)";
                 3   "law"                   [enum coefficients.law]  ""    []            "force law of one tooth";
-                120 "kt"                    [coefficients.kt]        ""    [0.0, 1e14]   "tangential coefficient K_t [N/m2 linear, N/m^(1+x_F) power]";
-                121 "kr"                    [coefficients.kr]        ""    [0.0, 1e14]   "radial coefficient K_r [as K_t]";
+                120 "kt"                    [coefficients.kt]        "N/m^(1+x_F)"    [0.0, 1e14]   "tangential coefficient K_t [N/m2 linear, N/m^(1+x_F) power]";
+                121 "kr"                    [coefficients.kr]        "N/m^(1+x_F)"    [0.0, 1e14]   "radial coefficient K_r [as K_t]";
                 122 "kte"                   [coefficients.kte]       "N/m" [-1e9, 1e9]   "tangential edge coefficient K_te (linear law)";
                 123 "kre"                   [coefficients.kre]       "N/m" [-1e9, 1e9]   "radial edge coefficient K_re (linear law)";
-                124 "exponent"              [coefficients.exponent]  ""    [0.01, 2.0]   "power-law exponent x_F";
+                124 "exponent"              [coefficients.exponent]  "1"    [0.01, 2.0]   "power-law exponent x_F";
                 130 "cubic.xi1"             [coefficients.xi[0]]     "N/m3" []           "cubic law: tangential coefficient of h^3";
                 131 "cubic.xi2"             [coefficients.xi[1]]     "N/m2" []           "cubic law: tangential coefficient of h^2";
                 132 "cubic.xi3"             [coefficients.xi[2]]     "N/m"  []           "cubic law: tangential coefficient of h";

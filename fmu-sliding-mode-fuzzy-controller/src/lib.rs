@@ -54,28 +54,28 @@ pub static TABLE: LazyLock<Table<SlidingFuzzyParams, FuzzyInputs, ControllerOutp
             outputs ControllerOutputs {
                 discrete 10 "u_x"     [u[0]]           "N" [] "damper force command along x (held between samples)";
                 discrete 11 "u_y"     [u[1]]           "N" [] "damper force command along y";
-                discrete 12 "s_x"     [s[0]]           ""  [] "sliding variable of the x channel (normalised)";
-                discrete 13 "s_y"     [s[1]]           ""  [] "sliding variable of the y channel";
-                discrete 14 "j_hat_x" [j_hat[0]]       ""  [] "model term j-hat of the x channel (normalised)";
-                discrete 15 "j_hat_y" [j_hat[1]]       ""  [] "model term j-hat of the y channel";
-                discrete 16 "h_hat_x" [h_hat[0]]       ""  [] "input gain h-hat of the x channel (normalised, nominal 1)";
-                discrete 17 "h_hat_y" [h_hat[1]]       ""  [] "input gain h-hat of the y channel";
-                discrete 18 "e_m_x"   [model_error[0]] ""  [] "last modelling error of the x channel (normalised)";
-                discrete 19 "e_m_y"   [model_error[1]] ""  [] "last modelling error of the y channel";
-                discrete 20 "updates_x" [updates[0]]   ""  [] "learning updates outside the dead zone, x channel";
-                discrete 21 "updates_y" [updates[1]]   ""  [] "learning updates outside the dead zone, y channel";
+                discrete 12 "s_x"     [s[0]]           "1"  [] "sliding variable of the x channel (normalised)";
+                discrete 13 "s_y"     [s[1]]           "1"  [] "sliding variable of the y channel";
+                discrete 14 "j_hat_x" [j_hat[0]]       "1"  [] "model term j-hat of the x channel (normalised)";
+                discrete 15 "j_hat_y" [j_hat[1]]       "1"  [] "model term j-hat of the y channel";
+                discrete 16 "h_hat_x" [h_hat[0]]       "1"  [] "input gain h-hat of the x channel (normalised, nominal 1)";
+                discrete 17 "h_hat_y" [h_hat[1]]       "1"  [] "input gain h-hat of the y channel";
+                discrete 18 "e_m_x"   [model_error[0]] "1"  [] "last modelling error of the x channel (normalised)";
+                discrete 19 "e_m_y"   [model_error[1]] "1"  [] "last modelling error of the y channel";
+                discrete 20 "updates_x" [updates[0]]   "1"  [] "learning updates outside the dead zone, x channel";
+                discrete 21 "updates_y" [updates[1]]   "1"  [] "learning updates outside the dead zone, y channel";
             }
             parameters SlidingFuzzyParams {
                 1   "mode"             [enum mode]          ""      []              "controller of both channels";
                 100 "Ts"               [sample_period]      "s"     [1e-7, 1.0]     "sample period T";
                 101 "u_max"            [force_limit]        "N"     [1e-6, 1e9]     "force limit of the damper";
-                102 "sigma"            [sigma]              ""      [0.0, 100.0]    "sliding gain sigma (normalised units)";
-                103 "k1"               [k1]                 ""      [-2.0, 2.0]     "s(k) = e(k) + k1 e(k-1) + k2 e(k-2)";
-                104 "k2"               [k2]                 ""      [-1.0, 1.0]     "second coefficient of the sliding surface";
-                105 "Omega"            [learning_rate]      ""      [1e-9, 1.0]     "learning rate Omega_1 = Omega_2";
-                106 "beta"             [dead_zone]          ""      [1.0, 1e6]      "dead-zone parameter beta_1 = beta_2 (> 1)";
-                107 "fou_ratio"        [fou_ratio]          ""      [1e-6, 1.0]     "lower/upper width of the type-2 sets (1: no footprint of uncertainty)";
-                108 "h_min"            [h_min]              ""      [1e-9, 1e9]     "floor of h-hat (normalised)";
+                102 "sigma"            [sigma]              "1"      [0.0, 100.0]    "sliding gain sigma (normalised units)";
+                103 "k1"               [k1]                 "1"      [-2.0, 2.0]     "s(k) = e(k) + k1 e(k-1) + k2 e(k-2)";
+                104 "k2"               [k2]                 "1"      [-1.0, 1.0]     "second coefficient of the sliding surface";
+                105 "Omega"            [learning_rate]      "1"      [1e-9, 1.0]     "learning rate Omega_1 = Omega_2";
+                106 "beta"             [dead_zone]          "1"      [1.0, 1e6]      "dead-zone parameter beta_1 = beta_2 (> 1)";
+                107 "fou_ratio"        [fou_ratio]          "1"      [1e-6, 1.0]     "lower/upper width of the type-2 sets (1: no footprint of uncertainty)";
+                108 "h_min"            [h_min]              "1"      [1e-9, 1e9]     "floor of h-hat (normalised)";
                 109 "X_x"              [position_scale[0]]  "m"     [1e-12, 1.0]    "position normalisation, x (error in [-2, 2] X)";
                 110 "X_y"              [position_scale[1]]  "m"     [1e-12, 1.0]    "position normalisation, y";
                 111 "V_x"              [velocity_scale[0]]  "m/s"   [1e-12, 1e3]    "velocity normalisation, x";
@@ -86,13 +86,13 @@ pub static TABLE: LazyLock<Table<SlidingFuzzyParams, FuzzyInputs, ControllerOutp
                 116 "c_y"              [damping[1]]         "N.s/m" [0.0, 1e12]     "nominal damping, y";
                 117 "k_x"              [stiffness[0]]       "N/m"   [1e-9, 1e15]    "nominal stiffness, x";
                 118 "k_y"              [stiffness[1]]       "N/m"   [1e-9, 1e15]    "nominal stiffness, y";
-                120 "Kp_x"             [pid_x.kp]           ""      [-1e12, 1e12]   "D-PID proportional gain, x [N per error unit]";
-                121 "Ki_x"             [pid_x.ki]           ""      [-1e12, 1e12]   "D-PID integral gain, x [N per error unit per s]";
-                122 "Kd_x"             [pid_x.kd]           ""      [-1e12, 1e12]   "D-PID derivative gain, x [N.s per error unit]";
-                123 "Kp_y"             [pid_y.kp]           ""      [-1e12, 1e12]   "D-PID proportional gain, y";
-                124 "Ki_y"             [pid_y.ki]           ""      [-1e12, 1e12]   "D-PID integral gain, y";
-                125 "Kd_y"             [pid_y.kd]           ""      [-1e12, 1e12]   "D-PID derivative gain, y";
-                126 "pid_error_scale"  [pid_error_scale]    ""      [1e-12, 1e12]   "D-PID error unit: e = -scale * position (1000: mm)";
+                120 "Kp_x"             [pid_x.kp]           "N/e"      [-1e12, 1e12]   "D-PID proportional gain, x [N per error unit]";
+                121 "Ki_x"             [pid_x.ki]           "N/(e.s)"      [-1e12, 1e12]   "D-PID integral gain, x [N per error unit per s]";
+                122 "Kd_x"             [pid_x.kd]           "N.s/e"      [-1e12, 1e12]   "D-PID derivative gain, x [N.s per error unit]";
+                123 "Kp_y"             [pid_y.kp]           "N/e"      [-1e12, 1e12]   "D-PID proportional gain, y";
+                124 "Ki_y"             [pid_y.ki]           "N/(e.s)"      [-1e12, 1e12]   "D-PID integral gain, y";
+                125 "Kd_y"             [pid_y.kd]           "N.s/e"      [-1e12, 1e12]   "D-PID derivative gain, y";
+                126 "pid_error_scale"  [pid_error_scale]    "e/m"      [1e-12, 1e12]   "D-PID error unit: e = -scale * position (1000: mm)";
                 0   "karnik_mendel"    [karnik_mendel]      ""      []              "Karnik-Mendel type reduction instead of the closed form (Eq. 25)";
             }
         },

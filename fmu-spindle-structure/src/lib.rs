@@ -44,8 +44,8 @@ pub static TABLE: LazyLock<Table<SpindleParams, SpindleInputs, SpindleOutputs>> 
                 101 "actuator_mass"          [actuator_mass]          "kg" [1e-9, 1e9] "bearing/actuator mass m_a (each axis)";
                 102 "tool_frequency"         [tool_frequency]         "Hz" [1e-3, 1e6] "f_t = sqrt(c_t/m_t)/(2 pi)";
                 103 "actuator_frequency"     [actuator_frequency]     "Hz" [1e-3, 1e6] "f_a = sqrt(c_a/m_a)/(2 pi)";
-                104 "tool_damping_ratio"     [tool_damping_ratio]     ""   [0.0, 10.0] "zeta_t = b_t/(2 sqrt(c_t m_t))";
-                105 "actuator_damping_ratio" [actuator_damping_ratio] ""   [0.0, 10.0] "zeta_a = b_a/(2 sqrt(c_a m_a))";
+                104 "tool_damping_ratio"     [tool_damping_ratio]     "1"   [0.0, 10.0] "zeta_t = b_t/(2 sqrt(c_t m_t))";
+                105 "actuator_damping_ratio" [actuator_damping_ratio] "1"   [0.0, 10.0] "zeta_a = b_a/(2 sqrt(c_a m_a))";
             }
         },
     )

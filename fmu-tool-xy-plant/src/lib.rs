@@ -4,9 +4,12 @@
 //! [`ToolPlant::step`]) and the FMI variables of `ToolXyPlant.fmu`, declared once in [`TABLE`].
 //! The cdylib `ToolXyPlant` (`fmu-tool-xy-plant/cdylib/`) exports it.
 //!
-//! The plant starts in the static equilibrium of the cut and integrates with RK4 at a fixed
-//! step `δ = τ/⌈τ/max_step⌉` (the delay on the grid); a communication step must be a whole
-//! number of `δ` (else fmi2Discard with a message). The damper forces `u_x`, `u_y` are held over
+//! The plant starts in the static equilibrium of the cut and integrates with RK4 at the fixed
+//! step `δ = max_step` (a delay that is not a whole number of steps is interpolated); a
+//! communication step must be a whole number of `δ` (else fmi2Discard with a message). The
+//! delay line must fit the memory budget (`model_kit::budget`), else initialization is an
+//! fmi2Error naming `spindle_speed`, `teeth` and `max_step`; `spindle_speed = 0` is a stopped
+//! spindle, which does not cut. The damper forces `u_x`, `u_y` are held over
 //! the step. Outputs `x`, `y` are the vibration about the static deflection (what the controller
 //! sees); `deflection_x`, `deflection_y` the total displacement.
 
@@ -68,7 +71,7 @@ pub static TABLE: LazyLock<Table<ToolParams, ToolInputs, ToolXyOutputs>> = LazyL
                 104 "k_x"        [stiffness[0]]         "N/m"   [1e-9, 1e15]    "modal stiffness, x";
                 105 "k_y"        [stiffness[1]]         "N/m"   [1e-9, 1e15]    "modal stiffness, y";
                 0   "teeth"      [teeth]                ""      [1, 100]        "number of teeth n";
-                106 "spindle_speed" [spindle_rpm]       "rpm"   [1e-3, 1e6]     "spindle speed (delay tau = 60/(n rpm))";
+                106 "spindle_speed" [spindle_rpm]       "rpm"   [0.0, 1e6]      "spindle speed (delay tau = 60/(n rpm)); 0: stopped, no cutting";
                 110 "xi1"        [xi[0]]                "N/m3"  [-1e20, 1e20]   "tangential coefficient of h^3";
                 111 "xi2"        [xi[1]]                "N/m2"  [-1e20, 1e20]   "tangential coefficient of h^2";
                 112 "xi3"        [xi[2]]                "N/m"   [-1e20, 1e20]   "tangential coefficient of h";
@@ -81,15 +84,16 @@ pub static TABLE: LazyLock<Table<ToolParams, ToolInputs, ToolXyOutputs>> = LazyL
                 120 "m_d"        [damper_mass]          "kg"    [1e-9, 1e9]     "damper mass (5 % of 20 kg)";
                 121 "k_d"        [damper_stiffness]     "N/m"   [0.0, 1e15]     "damper centring stiffness (not in the paper)";
                 122 "Lambda"     [friction_viscous]     "N.s/m" [0.0, 1e12]     "damper viscous friction (Eq. 13)";
-                123 "Gamma"      [friction_coulomb]     ""      [0.0, 1e6]      "damper Coulomb friction coefficient (Eq. 13)";
-                124 "Upsilon"    [friction_smoothing]   ""      [0.0, 1e12]     "tanh smoothing of the Coulomb friction (Eq. 13) [s/m]";
+                123 "Gamma"      [friction_coulomb]     "1"      [0.0, 1e6]      "damper Coulomb friction coefficient (Eq. 13)";
+                124 "Upsilon"    [friction_smoothing]   "s/m"      [0.0, 1e12]     "tanh smoothing of the Coulomb friction (Eq. 13) [s/m]";
                 125 "A_x"        [forcing_amplitude[0]] "N"     [-1e9, 1e9]     "harmonic forcing amplitude, x";
                 126 "A_y"        [forcing_amplitude[1]] "N"     [-1e9, 1e9]     "harmonic forcing amplitude, y";
                 127 "omega_f"    [forcing_frequency]    "rad/s" [0.0, 1e9]      "forcing frequency (650 rad/s)";
-                128 "max_step"   [max_step]             "s"     [1e-9, 1.0]     "largest RK4 step (the step is tau/ceil(tau/max_step))";
+                128 "max_step"   [max_step]             "s"     [1e-9, 1.0]     "RK4 step (communication steps are whole multiples of it)";
             }
         },
     )
+    .work_bound("max_step", 1.0)
 });
 
 fmi2_export::adapter! {

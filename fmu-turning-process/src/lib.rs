@@ -43,16 +43,16 @@ pub static TABLE: LazyLock<Table<TurningParams, TurningInputs, TurningOutputs>> 
             }
             parameters TurningParams {
                 100 "natural_frequency" [natural_frequency] "Hz"     [1e-6, 1e5]   "natural frequency f_n of the tool mode";
-                101 "damping_ratio"     [damping_ratio]     ""       [0.0, 10.0]   "damping ratio zeta";
+                101 "damping_ratio"     [damping_ratio]     "1"       [0.0, 10.0]   "damping ratio zeta";
                 102 "kappa"             [kappa]             "1/mm"   [0.0, 1e3]    "lumped cutting stiffness a2/(omega_n^2 w) at the reference feed";
                 103 "reference_feed"    [reference_feed]    "mm/rev" [1e-9, 100.0] "feed at which kappa is given";
-                104 "force_exponent"    [force_exponent]    ""       [1e-6, 2.0]   "force exponent Y";
+                104 "force_exponent"    [force_exponent]    "1"       [1e-6, 2.0]   "force exponent Y";
                 105 "edge_angle"        [edge_angle]        "deg"    [1e-6, 90.0]  "cutting edge angle K";
                 106 "process_damping"   [process_damping]   "rpm.s"  [0.0, 1e6]    "process damping constant C (0: none)";
                 107 "depth"             [depth]             "mm"     [0.0, 1e3]    "depth of cut w";
                 108 "pulse_time"        [pulse_time]        "s"      [-1e9, 1e9]   "start of the disturbance force pulse";
                 109 "pulse_duration"    [pulse_duration]    "s"      [0.0, 1e3]    "duration of the pulse";
-                110 "pulse_fraction"    [pulse_fraction]    ""       [-1e3, 1e3]   "pulse size as a fraction of the static force P w s0^Y";
+                110 "pulse_fraction"    [pulse_fraction]    "1"       [-1e3, 1e3]   "pulse size as a fraction of the static force P w s0^Y";
                 111 "max_step"          [max_step]          "s"      [1e-7, 1e-2]  "largest internal RK4 step";
             }
         },

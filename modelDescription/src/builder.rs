@@ -22,6 +22,9 @@ impl ModelBuilder {
                 description: None,
                 author: None,
                 version: None,
+                copyright: None,
+                license: None,
+                generation_date_and_time: None,
                 generation_tool: Some(format!("chatter-fmu model-description {}", env!("CARGO_PKG_VERSION"))),
                 variable_naming_convention: Some("structured".into()),
                 number_of_event_indicators: Some(0),
@@ -72,6 +75,13 @@ impl ModelBuilder {
         self
     }
 
+    /// Set the copyright notice and the license (an SPDX expression).
+    pub fn legal(mut self, copyright: &str, license: &str) -> Self {
+        self.md.copyright = Some(copyright.into());
+        self.md.license = Some(license.into());
+        self
+    }
+
     /// Declare a unit by its SI base-unit exponents: `kg, m, s, A, K, mol, cd, rad`.
     pub fn unit(self, name: &str, exps: [i32; 8]) -> Self {
         self.unit_scaled(name, exps, 1.0)
@@ -81,6 +91,14 @@ impl ModelBuilder {
     pub fn known_unit(self, name: &str) -> Result<Self, DescriptionError> {
         if self.md.unit_definitions.iter().flat_map(|u| u.units.iter()).any(|u| u.name == name) {
             return Ok(self);
+        }
+        if units::named_unit(name) {
+            let mut b = self;
+            b.md.unit_definitions
+                .get_or_insert_with(|| UnitDefinitions { units: Vec::new() })
+                .units
+                .push(Unit { name: name.into(), base_unit: None });
+            return Ok(b);
         }
         let (exps, factor) = units::known_unit(name).ok_or_else(|| {
             DescriptionError::Invalid(format!("unknown unit {name:?} (add it to model_description::units)"))
@@ -249,7 +267,10 @@ impl ModelBuilder {
             initial_unknowns: (!initial_unknowns.is_empty()).then_some(UnknownList { unknowns: initial_unknowns }),
         };
         self.md.guid = String::new();
+        // the GUID identifies the model, not the moment it was packaged
+        let when = self.md.generation_date_and_time.take();
         let body = self.md.to_xml()?;
+        self.md.generation_date_and_time = when;
         let ns = uuid::Uuid::from_bytes(*b"chatter-fmu-ns-1");
         self.md.guid = format!("{{{}}}", uuid::Uuid::new_v5(&ns, body.as_bytes()));
         Ok(self.md)

@@ -25,9 +25,19 @@ pub struct ModelDescription {
     /// Model version.
     #[serde(rename = "@version", default, skip_serializing_if = "Option::is_none")]
     pub version: Option<String>,
+    /// Copyright notice.
+    #[serde(rename = "@copyright", default, skip_serializing_if = "Option::is_none")]
+    pub copyright: Option<String>,
+    /// License (SPDX expression).
+    #[serde(rename = "@license", default, skip_serializing_if = "Option::is_none")]
+    pub license: Option<String>,
     /// Tool that generated the FMU.
     #[serde(rename = "@generationTool", default, skip_serializing_if = "Option::is_none")]
     pub generation_tool: Option<String>,
+    /// When the FMU was generated (`xs:dateTime`); packaging derives it from the sources' commit
+    /// date, not the clock, so rebuilds are identical. Not part of the GUID.
+    #[serde(rename = "@generationDateAndTime", default, skip_serializing_if = "Option::is_none")]
+    pub generation_date_and_time: Option<String>,
     /// `flat` or `structured`.
     #[serde(rename = "@variableNamingConvention", default, skip_serializing_if = "Option::is_none")]
     pub variable_naming_convention: Option<String>,

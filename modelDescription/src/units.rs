@@ -8,6 +8,8 @@ use std::f64::consts::PI;
 
 /// `(name, exponents [kg, m, s, A, K, mol, cd, rad], factor to SI)`.
 pub const UNITS: &[(&str, [i32; 8], f64)] = &[
+    // dimensionless (ratios, orders, normalised quantities): FMI's unit "1"
+    ("1", [0, 0, 0, 0, 0, 0, 0, 0], 1.0),
     ("m", [0, 1, 0, 0, 0, 0, 0, 0], 1.0),
     ("m/s", [0, 1, -1, 0, 0, 0, 0, 0], 1.0),
     ("m/s2", [0, 1, -2, 0, 0, 0, 0, 0], 1.0),
@@ -41,7 +43,33 @@ pub const UNITS: &[(&str, [i32; 8], f64)] = &[
     ("1/mm", [0, -1, 0, 0, 0, 0, 0, 0], 1e3),
     ("deg", [0, 0, 0, 0, 0, 0, 0, 1], PI / 180.0),
     ("rpm.s", [0, 0, 0, 0, 0, 0, 0, 1], 2.0 * PI / 60.0),
+    ("s/m", [0, -1, 1, 0, 0, 0, 0, 0], 1.0),
 ];
+
+/// Units that no product of integer powers of SI base units expresses, declared by name only
+/// (an FMI `Unit` without `BaseUnit`): `(name, what it is)`. A gain of a fractional-order
+/// operator carries `s^λ` with the order λ a parameter; a state-space matrix whose meaning
+/// changes with a parameter (continuous or discrete form); signals normalised by the model.
+pub const NAMED_UNITS: &[(&str, &str)] = &[
+    ("N/(m.s^lambda)", "FOPID integral gain: N/m per s^lambda, lambda the integral order"),
+    ("N.s^mu/m", "FOPID derivative gain: N/m times s^mu, mu the derivative order"),
+    ("s^(lambda-2)", "ADRC-FOPID integral gain (u0 in m/s2 per m per s^lambda)"),
+    ("s^(mu-2)", "ADRC-FOPID derivative gain (u0 in m/s2 per m times s^mu)"),
+    ("N/m^(1+x_F)", "power-law cutting coefficient: N per m of depth per m^x_F of chip (N/m2 for x_F = 1)"),
+    ("1/s|1", "state-space matrix entry: 1/s in the continuous form, 1 (per sample) in the discrete form"),
+    ("G", "AFrAC adaptation signal G = P12 z1 + P22 z2 (Lyapunov-weighted error, no SI product)"),
+    ("lambda_2", "AFrAC feed adaptation gain (its unit follows G and the order beta)"),
+    ("lambda_3", "AFrAC speed adaptation gain (its unit follows G and the order beta)"),
+    ("e/m", "D-PID error units per metre of position (1000: the error in mm)"),
+    ("N/e", "D-PID proportional gain: N per error unit"),
+    ("N/(e.s)", "D-PID integral gain: N per error unit and second"),
+    ("N.s/e", "D-PID derivative gain: N s per error unit"),
+];
+
+/// Is `name` a unit declared by name only ([`NAMED_UNITS`])?
+pub fn named_unit(name: &str) -> bool {
+    NAMED_UNITS.iter().any(|(n, _)| *n == name)
+}
 
 /// Exponents and factor of a known unit.
 pub fn known_unit(name: &str) -> Option<([i32; 8], f64)> {
@@ -83,10 +111,12 @@ mod tests {
 
     #[test]
     fn names_are_unique_and_rpm_is_scaled() {
-        let mut names: Vec<_> = UNITS.iter().map(|u| u.0).collect();
+        let mut names: Vec<_> = UNITS.iter().map(|u| u.0).chain(NAMED_UNITS.iter().map(|u| u.0)).collect();
         names.sort_unstable();
         names.dedup();
-        assert_eq!(names.len(), UNITS.len());
+        assert_eq!(names.len(), UNITS.len() + NAMED_UNITS.len());
+        assert_eq!(known_unit("1"), Some(([0; 8], 1.0)));
+        assert!(named_unit("N.s^mu/m") && !named_unit("m"));
         let (e, f) = known_unit("rpm").unwrap();
         assert_eq!(e, known_unit("rad/s").unwrap().0);
         assert!((f * 60.0 - 2.0 * PI).abs() < 1e-15);

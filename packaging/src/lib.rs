@@ -9,7 +9,7 @@
 //!   (from the model's one variable table), `binaries/linux64/<modelIdentifier>.so` and, where
 //!   the toolchain is installed, `binaries/win64/<modelIdentifier>.dll` ([`platforms`]: the
 //!   linux64 binary is built against glibc 2.17 with `cargo zigbuild` when available),
-//!   `documentation/index.html` (the adapter's Markdown documentation and a variable table from
+//!   `model.png` (the block symbol, [`icon`]), `documentation/index.html` (the adapter's Markdown documentation and a variable table from
 //!   the same description, rendered to HTML by [`documentation`]) and
 //!   `resources/` (a README naming the FMU; our models read no resource files);
 //! * `products.json`: the model identifiers of all products, in [`PRODUCTS`] order (the
@@ -34,6 +34,7 @@ use std::path::{Path, PathBuf};
 
 pub mod documentation;
 pub use documentation::documentation_html;
+pub mod icon;
 pub mod platforms;
 pub use platforms::Build;
 pub mod systems;
@@ -195,9 +196,48 @@ pub fn build_cdylibs() -> Result<Vec<Build>> {
     Ok(plan.builds)
 }
 
+/// The `generationDateAndTime` of the FMUs: the time of the sources, not of the build, so that a
+/// rebuild of the same commit writes the same archives: `SOURCE_DATE_EPOCH` (the reproducible-
+/// builds convention) if set, else the commit time of the workspace's `HEAD` (`git log -1
+/// --format=%ct`), else none (a source tree without git and without the variable).
+pub fn source_date() -> Option<String> {
+    let epoch = match std::env::var("SOURCE_DATE_EPOCH") {
+        Ok(s) => s.trim().parse::<i64>().ok()?,
+        Err(_) => {
+            let out = std::process::Command::new("git")
+                .args(["log", "-1", "--format=%ct"])
+                .current_dir(workspace_root())
+                .output()
+                .ok()?;
+            String::from_utf8(out.stdout).ok()?.trim().parse::<i64>().ok()?
+        }
+    };
+    Some(utc_date_time(epoch))
+}
+
+/// Seconds since 1970-01-01T00:00:00Z as `xs:dateTime` in UTC (`2026-11-26T14:03:00Z`), by the
+/// days-to-civil algorithm of H. Hinnant (proleptic Gregorian calendar).
+pub fn utc_date_time(epoch: i64) -> String {
+    let (days, secs) = (epoch.div_euclid(86_400), epoch.rem_euclid(86_400));
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z", secs / 3600, secs % 3600 / 60, secs % 60)
+}
+
 /// Write one `.fmu` archive with the binary of each of `builds` (one model description, one
-/// GUID, a `binaries/<platform>/` folder per build).
+/// GUID, a `binaries/<platform>/` folder per build); its `modelDescription.xml` carries the
+/// [`source_date`] as `generationDateAndTime`.
 pub fn write_fmu(md: &ModelDescription, docs: &str, builds: &[Build], out: &Path) -> Result<()> {
+    let mut md = md.clone();
+    md.generation_date_and_time = source_date();
+    let md = &md;
     let id = md.model_identifier().context("model has no CoSimulation interface")?;
     let readme =
         format!("{} needs no resource files; this directory exists for masters that expect it.\n", md.model_name);
@@ -208,6 +248,7 @@ pub fn write_fmu(md: &ModelDescription, docs: &str, builds: &[Build], out: &Path
         let bytes = std::fs::read(&library).with_context(|| format!("reading {}", library.display()))?;
         zip.executable(format!("binaries/{}/{}", build.folder(), build.file_name(id)), bytes, Compression::Deflated);
     }
+    zip.file("model.png", icon::model_png(md)?, Compression::Stored);
     zip.file("documentation/index.html", documentation_html(md, docs), Compression::Deflated).file(
         "resources/README.txt",
         readme,
@@ -283,4 +324,23 @@ pub fn package_all() -> Result<Vec<PathBuf>> {
         written.push(path);
     }
     Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn dates_are_utc_xs_date_times() {
+        assert_eq!(super::utc_date_time(0), "1970-01-01T00:00:00Z");
+        assert_eq!(super::utc_date_time(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(super::utc_date_time(1_795_701_780), "2026-11-26T14:03:00Z");
+        assert_eq!(super::utc_date_time(-1), "1969-12-31T23:59:59Z");
+    }
+
+    #[test]
+    fn the_source_date_comes_from_source_date_epoch() {
+        // SAFETY of the test: no other test of this crate reads the variable
+        unsafe { std::env::set_var("SOURCE_DATE_EPOCH", "86400") };
+        assert_eq!(super::source_date().as_deref(), Some("1970-01-02T00:00:00Z"));
+        unsafe { std::env::remove_var("SOURCE_DATE_EPOCH") };
+    }
 }

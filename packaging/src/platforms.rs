@@ -8,13 +8,16 @@
 //! | FMI folder | Rust target | built by | needs |
 //! |---|---|---|---|
 //! | `linux64` | `x86_64-unknown-linux-gnu.2.17` | `cargo zigbuild` | `cargo-zigbuild` + `ziglang` (PyPI) |
-//! | `linux64` (fallback) | the host | `cargo build` | — (binary needs this machine's glibc) |
+//! | `linux64` (only with `FMU_PLATFORMS=linux64`) | the host | `cargo build` | — (binary needs this machine's glibc) |
 //! | `win64` | `x86_64-pc-windows-gnu` | `cargo build` | `rustup target add x86_64-pc-windows-gnu`, `x86_64-w64-mingw32-gcc` (Debian `gcc-mingw-w64-x86-64`) |
 //! | `darwin64` (only when `FMU_PLATFORMS` names it) | `universal2-apple-darwin` (x86_64 + arm64 in one Mach-O) | `cargo zigbuild` | `cargo-zigbuild` + `ziglang`, `rustup target add x86_64-apple-darwin aarch64-apple-darwin` |
 //!
 //! The portable linux64 build links against glibc 2.17's symbol versions (zig ships the
-//! version scripts), so the binary loads on every distribution from RHEL/CentOS 7 on; the
-//! fallback build needs the build machine's glibc and packaging says so. A platform whose
+//! version scripts), so the binary loads on every distribution from RHEL/CentOS 7 on. It is
+//! always built: without cargo-zigbuild packaging installs it (and ziglang) into `.venv` from
+//! PyPI, and stops with what to do when it cannot (issue 31: the README's first command on a
+//! fresh machine gave a binary needing GLIBC 2.33–2.35). `FMU_PLATFORMS=linux64` asks for the
+//! host build instead (the binary then needs the build machine's glibc). A platform whose
 //! toolchain is missing is skipped with the reason printed, unless `FMU_PLATFORMS` names it:
 //! `FMU_PLATFORMS=linux64-portable,win64` (the README test command sets it) makes a missing
 //! toolchain an error instead of a quieter FMU.
@@ -179,6 +182,36 @@ pub fn find_tool(name: &str, venv: &Path) -> Option<PathBuf> {
         .find(|p| p.is_file())
 }
 
+/// The PyPI packages of the portable linux64 build, as `tests/python/requirements.txt` pins them.
+pub const ZIGBUILD_PACKAGES: [&str; 2] = ["cargo-zigbuild==0.24.*", "ziglang==0.17.*"];
+
+/// Install cargo-zigbuild and ziglang into `venv` (created with `python3 -m venv` if missing);
+/// an error that says what to do when that is not possible.
+fn setup_zigbuild(venv: &Path) -> Result<()> {
+    eprintln!(
+        "packaging: cargo-zigbuild not found; installing {} into {} for the portable linux64 binary (glibc >= 2.17)",
+        ZIGBUILD_PACKAGES.join(" "),
+        venv.display()
+    );
+    let python = venv.join("bin").join("python");
+    let ok = |c: &mut Command| c.status().is_ok_and(|s| s.success());
+    let made = python.is_file() || ok(Command::new("python3").args(["-m", "venv"]).arg(venv));
+    let installed = made
+        && ok(Command::new(&python)
+            .args(["-m", "pip", "install", "--quiet", "--disable-pip-version-check"])
+            .args(ZIGBUILD_PACKAGES));
+    if !installed {
+        bail!(
+            "the portable linux64 FMU binaries (glibc >= 2.17) need cargo-zigbuild and ziglang, which could not be \
+             installed into {} (python3 with venv and pip, and PyPI, are needed): install them yourself \
+             (`pip install {}`), or build binaries for this machine's glibc only with FMU_PLATFORMS=linux64",
+            venv.display(),
+            ZIGBUILD_PACKAGES.join(" ")
+        );
+    }
+    Ok(())
+}
+
 fn rust_target_installed(rustc: &str, target: &str) -> bool {
     let out = Command::new(rustc).args(["--print", "target-libdir", "--target", target]).output();
     match out {
@@ -202,16 +235,21 @@ pub fn plan(venv: &Path) -> Result<Plan> {
         }
     }
     let mut plan = Plan::default();
-    let zigbuild = find_tool("cargo-zigbuild", venv);
-    let zig_ok = zigbuild.as_deref().is_some_and(|z| runs(z, &["--version"]));
-    if zig_ok {
+    let zig_ok = || find_tool("cargo-zigbuild", venv).is_some_and(|z| runs(&z, &["--version"]));
+    // The portable linux64 binary is what the README promises: without cargo-zigbuild, set it
+    // up in the venv (PyPI), unless FMU_PLATFORMS asks for this machine's glibc only (linux64).
+    let host_only = required.iter().any(|r| r == "linux64") && !required.iter().any(|r| r == "linux64-portable");
+    if !host_only && !zig_ok() {
+        setup_zigbuild(venv)?;
+    }
+    if zig_ok() && !host_only {
         plan.builds.push(Build::LinuxPortable);
     } else {
         plan.builds.push(Build::LinuxHost);
         plan.skipped.push((
             "linux64-portable",
-            "cargo-zigbuild not found: the linux64 binary needs this machine's glibc \
-             (pip install cargo-zigbuild ziglang for one that loads on glibc >= 2.17)"
+            "FMU_PLATFORMS=linux64: the linux64 binary needs this machine's glibc (the default builds one \
+             that loads on glibc >= 2.17, with cargo-zigbuild)"
                 .into(),
         ));
     }
@@ -235,11 +273,11 @@ pub fn plan(venv: &Path) -> Result<Plan> {
     if required.iter().any(|r| r == "darwin64") {
         let targets = ["x86_64-apple-darwin", "aarch64-apple-darwin"];
         let missing: Vec<&str> = targets.into_iter().filter(|t| !rust_target_installed(&rustc, t)).collect();
-        if zig_ok && missing.is_empty() {
+        if zig_ok() && missing.is_empty() {
             plan.builds.push(Build::Darwin);
         } else {
             let mut why = Vec::new();
-            if !zig_ok {
+            if !zig_ok() {
                 why.push("pip install cargo-zigbuild ziglang".to_string());
             }
             if !missing.is_empty() {

@@ -46,9 +46,13 @@ pub const SLIDING_MODE_FUZZY_SSD: &str = include_str!("../scenarios/SlidingModeF
 /// the `SystemStructure.ssd` of `Afrac.ssp`.
 pub const AFRAC_SSD: &str = include_str!("../scenarios/Afrac.ssd");
 
-/// One FMU variable assignment as an SSP parameter (enumerations by item name).
+/// One FMU variable assignment as an SSP parameter. Enumerations are written as `ssv:Integer`
+/// with the item's value, which FMI 2.0 sets through `fmi2SetInteger` anyway: libcosim (the Open
+/// Simulation Platform's master) aborts on `ssv:Enumeration` values (`ssp_parser.cpp:69:
+/// Internal error`, `terminate called`), and FMPy's `simulate_ssp` sets enumerations with
+/// `int(value)`. Our master reads both forms.
 fn ssp_parameter(md: &ModelDescription, name: String, value: model_description::Value) -> Result<ssp::Parameter> {
-    ssp::fmu_parameter(md, &name, value, ssp::Enumerations::ItemNames).map_err(anyhow::Error::msg)
+    ssp::fmu_parameter(md, &name, value, ssp::Enumerations::Integers).map_err(anyhow::Error::msg)
 }
 
 /// The closed loop with the paper's Table 2 controller gains bound as SSP parameters

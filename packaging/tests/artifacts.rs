@@ -31,13 +31,23 @@ fn cdylib_name_model_identifier_and_binary_name_are_one_string() {
             .unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -p packaging`)", fmu.display()));
         let mut z = zip::ZipArchive::new(f).unwrap();
         let names: Vec<String> = z.file_names().map(String::from).collect();
-        for required in ["modelDescription.xml", &format!("binaries/linux64/{id}.so"), "documentation/index.html"] {
+        let required = ["modelDescription.xml", &format!("binaries/linux64/{id}.so"), "documentation/index.html", "model.png"];
+        for required in required {
             assert!(names.iter().any(|n| n == required), "{id}.fmu lacks {required}: {names:?}");
         }
         let mut xml = String::new();
         std::io::Read::read_to_string(&mut z.by_name("modelDescription.xml").unwrap(), &mut xml).unwrap();
         let parsed = model_description::ModelDescription::from_xml(&xml).unwrap();
         assert_eq!(parsed.guid, md.guid, "the packaged XML is the model's own table");
+        // issue 31: the optional attributes tools show, the generation time from the sources
+        assert_eq!(parsed.license.as_deref(), Some("MIT OR Apache-2.0"), "{id}");
+        assert!(parsed.copyright.is_some(), "{id}");
+        assert_eq!(
+            parsed.generation_date_and_time,
+            packaging::source_date(),
+            "{id}: generationDateAndTime is not the commit time of HEAD (rebuild the FMUs after a commit: \
+             cargo run --release -p packaging)"
+        );
     }
 }
 

@@ -27,8 +27,18 @@ def test_model_description_is_co_simulation_with_units(product):
     units = {u.name for u in md.unitDefinitions}
     assert units, "UnitDefinitions must declare the SI units used"
     for v in md.modelVariables:
-        if v.type == "Real" and v.unit is not None:
+        if v.type == "Real":
+            # issue 31: 203 Real variables had no unit; dimensionless ones say "1"
+            assert v.unit is not None, f"{v.name} has no unit"
             assert v.unit in units, f"{v.name}: unit {v.unit} not declared"
+    assert md.copyright and md.license and md.generationDateAndTime, "optional attributes tools show"
+
+
+def test_every_fmu_carries_its_model_png(product):
+    import zipfile
+    with zipfile.ZipFile(fmu_path(product)) as z:
+        png = z.read("model.png")
+    assert png.startswith(b"\x89PNG\r\n\x1a\n")
 
 
 def test_simulates_one_second_with_defaults_to_finite_outputs(product):

@@ -35,7 +35,7 @@
 use crate::eso::Eso;
 use crate::fopid::Fopid;
 use crate::params::{ControllerParams, Structure};
-use crate::pid::Pid;
+use crate::pid::{Pid, PidGains};
 use crate::td::TrackingDifferentiator;
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
@@ -118,6 +118,30 @@ impl Controller {
         self.eso.check(&fresh.eso)?;
         if ![-1.0, 0.0, 1.0].iter().any(|d: &f64| d.to_bits() == self.sat_dir.to_bits()) {
             return Err("the saturation direction is not -1, 0 or 1".into());
+        }
+        Ok(())
+    }
+
+    /// Change the gains (`kp`, `ki`, `kd` of PID, FOPID and ADRC-FOPID) while running, keeping
+    /// every state (integrators, fractional memories, ESO, tracking differentiator): what an FMU
+    /// does with a tunable parameter set between steps. `p` must equal the current parameters but
+    /// for these gains and pass their validation.
+    pub fn retune(&mut self, p: &ControllerParams) -> Result<(), String> {
+        let mut only_gains = self.params;
+        only_gains.pid = PidGains { kp: p.pid.kp, ki: p.pid.ki, kd: p.pid.kd, ..only_gains.pid };
+        for (mine, theirs) in [(&mut only_gains.fopid, &p.fopid), (&mut only_gains.adrc.fopid, &p.adrc.fopid)] {
+            (mine.kp, mine.ki, mine.kd) = (theirs.kp, theirs.ki, theirs.kd);
+        }
+        if only_gains != *p {
+            return Err("only the gains kp, ki, kd can change while the controller runs".into());
+        }
+        p.validate()?;
+        self.params = *p;
+        match &mut self.law {
+            Law::Off => {}
+            Law::Pid(pid) => pid.set_gains(p.pid.kp, p.pid.ki, p.pid.kd),
+            Law::Fopid(f) => f.set_gains(p.fopid.kp, p.fopid.ki, p.fopid.kd),
+            Law::Adrc { fopid, .. } => fopid.set_gains(p.adrc.fopid.kp, p.adrc.fopid.ki, p.adrc.fopid.kd),
         }
         Ok(())
     }

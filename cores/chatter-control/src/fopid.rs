@@ -47,6 +47,13 @@ pub struct Fopid {
 }
 
 impl Fopid {
+    /// New gains `kp`, `ki`, `kd` from the next sample on, the operators' memories kept (the
+    /// derivative memory is filled only while `kd ≠ 0`: a `kd` changed from 0 starts from an
+    /// empty one).
+    pub(crate) fn set_gains(&mut self, kp: f64, ki: f64, kd: f64) {
+        (self.g.kp, self.g.ki, self.g.kd) = (kp, ki, kd);
+    }
+
     /// A restored FOPID: the gains and operators `fresh` has.
     pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
         if self.g != fresh.g {

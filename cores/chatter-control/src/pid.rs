@@ -40,6 +40,12 @@ pub struct Pid {
 }
 
 impl Pid {
+    /// New gains `kp`, `ki`, `kd` from the next sample on, the state kept (the integrator holds
+    /// `∫e`, so a new `ki` weighs the accumulated integral at once).
+    pub(crate) fn set_gains(&mut self, kp: f64, ki: f64, kd: f64) {
+        (self.g.kp, self.g.ki, self.g.kd) = (kp, ki, kd);
+    }
+
     /// A restored PID: the gains and period `fresh` has, a finite state.
     pub(crate) fn check(&self, fresh: &Self) -> Result<(), String> {
         if self.g != fresh.g || self.ts.to_bits() != fresh.ts.to_bits() {

@@ -132,6 +132,20 @@ impl LinearController {
         &self.p
     }
 
+    /// Change the feedthrough gains `D_c` while running (the state ξ and the history kept): what
+    /// the FMU does with its tunable `Dc[i,j]` set between steps. `p` must equal the current
+    /// parameters but for `dc`.
+    pub fn retune(&mut self, p: &LinearControlParams) -> Result<(), ControlError> {
+        let mut only_dc = self.p.clone();
+        only_dc.dc = p.dc;
+        if only_dc != *p {
+            return Err(ControlError::Parameter("only D_c can change while the controller runs".into()));
+        }
+        p.validate().map_err(ControlError::Parameter)?;
+        self.p.dc = p.dc;
+        Ok(())
+    }
+
     /// The outputs of the last step.
     pub fn outputs(&self) -> ControlOutputs {
         self.out

@@ -32,11 +32,20 @@
 //!
 //! # Integration
 //!
-//! Classical RK4 with a fixed step `δ = τ/N` (N = ⌈τ/δ_max⌉), so the delayed state is on the
-//! grid at the stage times `t` and `t + δ`; at `t + δ/2` it is the cubic Hermite interpolant
-//! of the grid positions and velocities (`(x₀ + x₁)/2 + δ(v₀ − v₁)/8`, exact for cubics). The
-//! input `u` is held over a [`ToolPlant::step`]. A communication step must be a whole number of
-//! integration steps (to 1e-9 relative).
+//! Classical RK4 with the fixed step `δ = δ_max` (`max_step`). When the delay is a whole
+//! number of steps (`τ = Nδ` to 1e-9 relative, e.g. 3000 rpm at 10 µs) the delayed state is on
+//! the grid at the stage times `t` and `t + δ`, and at `t + δ/2` it is the cubic Hermite
+//! interpolant of the grid positions and velocities (`(x₀ + x₁)/2 + δ(v₀ − v₁)/8`, exact for
+//! cubics). Otherwise (`τ = (N + f)δ`, 0 < f < 1) every delayed stage value is the cubic Hermite
+//! interpolant between the two grid points around it. The input `u` is held over a
+//! [`ToolPlant::step`]. A communication step must be a whole number of `δ` (to 1e-9 relative).
+//! (Until issue 31 the step was `τ/⌈τ/δ_max⌉`, which put the delay on the grid but made the
+//! default communication step of 0.1 ms a non-multiple at 2900, 3100 or 3333 rpm.)
+//!
+//! The delay line holds `⌈τ/δ⌉` states of 32 bytes; it must fit half the memory budget
+//! ([`model_kit::budget`], the other half for the undo copy of a step), else [`ToolPlant::new`]
+//! refuses the parameters with a message naming `spindle_speed`, `teeth` and `max_step`. A
+//! stopped spindle (`spindle_rpm = 0`) does not cut: no delay line, no cutting force.
 
 use crate::{ToolError, finite};
 use milling_process::directional::cubic_average;
@@ -108,9 +117,34 @@ impl Default for ToolParams {
 }
 
 impl ToolParams {
-    /// Tooth period τ = 60/(n Ω_rpm) [s].
+    /// Tooth period τ = 60/(n Ω_rpm) [s] (infinite for a stopped spindle).
     pub fn delay(&self) -> f64 {
         60.0 / (f64::from(self.teeth) * self.spindle_rpm)
+    }
+
+    /// Does the tool cut? (Cutting on and the spindle turning.)
+    pub fn cuts(&self) -> bool {
+        self.cutting && self.spindle_rpm > 0.0
+    }
+
+    /// The delay in integration steps: `(N, f)` with `τ = (N + f)·δ`, `f = 0` when τ is a whole
+    /// number of steps to 1e-9 relative; `(1, 0)` for a stopped spindle (nothing is delayed).
+    pub fn delay_steps(&self) -> (usize, f64) {
+        if self.spindle_rpm <= 0.0 {
+            return (1, 0.0);
+        }
+        let r = self.delay() / self.max_step;
+        if (r - r.round()).abs() <= 1e-9 * r {
+            (r.round().max(1.0) as usize, 0.0)
+        } else {
+            (r.floor().max(1.0) as usize, r - r.floor())
+        }
+    }
+
+    /// States in the delay line: `N` (`N + 1` with a fraction of a step).
+    fn ring_len(&self) -> usize {
+        let (n, f) = self.delay_steps();
+        n + usize::from(f > 0.0)
     }
 
     /// Check ranges.
@@ -121,8 +155,8 @@ impl ToolParams {
         if !self.mass.iter().chain(&self.stiffness).all(|&v| pos(v)) || !self.damping.iter().all(|&v| nonneg(v)) {
             return bad("modal mass and stiffness must be > 0 and damping >= 0, all finite");
         }
-        if self.teeth == 0 || !pos(self.spindle_rpm) {
-            return bad("teeth >= 1 and spindle speed > 0 required");
+        if self.teeth == 0 || !nonneg(self.spindle_rpm) {
+            return bad("teeth >= 1 and spindle speed >= 0 required (0: stopped, no cutting)");
         }
         if !self.xi.iter().chain(&self.delta).chain(&self.forcing_amplitude).all(|v| v.is_finite()) {
             return bad("cutting coefficients and forcing amplitudes must be finite");
@@ -137,9 +171,29 @@ impl ToolParams {
             return bad("friction parameters and forcing frequency must be finite and >= 0");
         }
         if !pos(self.max_step) || self.max_step > self.delay() {
-            return bad("max_step must be in (0, tau]");
+            return bad(&format!(
+                "max_step must be in (0, tau]: tau = 60/(teeth · spindle_speed) = {:e} s, max_step = {:e} s",
+                self.delay(),
+                self.max_step
+            ));
         }
-        Ok(())
+        let r = if self.spindle_rpm > 0.0 { self.delay() / self.max_step } else { 1.0 };
+        model_kit::budget::check_state_bytes(2.0 * 32.0 * (r.ceil() + 1.0), || {
+            format!(
+                "the delay line of tau = 60/(teeth · spindle_speed) = 60/({} · {} rpm) = {:e} s in RK4 steps of \
+                 max_step = {:e} s ({:.3e} states, with its undo copy)",
+                self.teeth,
+                self.spindle_rpm,
+                self.delay(),
+                self.max_step,
+                r.ceil()
+            )
+        })
+        .map_err(|m| {
+            ToolError::Params(format!(
+                "{m}: raise spindle_speed or max_step (or set spindle_speed = 0: a stopped spindle does not cut)"
+            ))
+        })
     }
 
     /// Eq. 5 coefficients including `±n/2π`: `(x row, y row)` in the layout of
@@ -207,6 +261,8 @@ pub struct ToolPlant {
     cy: [f64; 10],
     dt: f64,
     n_delay: usize,
+    /// The fraction of a step in the delay (`τ = (N + frac)·δ`, see [`ToolParams::delay_steps`]).
+    frac: f64,
     /// `(x, y, ẋ, ẏ)` at the last `n_delay` grid points, oldest at `head`.
     ring: Vec<[f64; 4]>,
     head: usize,
@@ -220,16 +276,16 @@ impl ToolPlant {
     /// with the surface of the previous tooth at the same deflection (Δ = 0).
     pub fn new(p: &ToolParams) -> Result<Self, ToolError> {
         p.validate()?;
-        let tau = p.delay();
-        let n_delay = (tau / p.max_step - 1e-9).ceil().max(1.0) as usize;
+        let n_delay = p.ring_len();
         let (cx, cy) = p.force_coefficients();
         let mut t = ToolPlant {
             p: p.clone(),
             cx,
             cy,
-            dt: tau / n_delay as f64,
+            dt: p.max_step,
             n_delay,
-            ring: vec![[0.0; 4]; n_delay],
+            frac: p.delay_steps().1,
+            ring: Vec::new(),
             head: 0,
             steps: 0,
             state: [0.0; 8],
@@ -246,7 +302,7 @@ impl ToolPlant {
     /// The static deflection `(γ₄ n/2π / k_x, −γ₄* n/2π / k_y)` under the constant cutting force
     /// (Δ = 0) [m]; zero with the cut off.
     pub fn static_deflection(&self) -> [f64; 2] {
-        if !self.p.cutting {
+        if !self.p.cuts() {
             return [0.0; 2];
         }
         [self.cx[9] / self.p.stiffness[0], self.cy[9] / self.p.stiffness[1]]
@@ -278,7 +334,7 @@ impl ToolPlant {
     }
 
     fn cutting(&self, s: &State, d: [f64; 4]) -> (f64, f64) {
-        if !self.p.cutting {
+        if !self.p.cuts() {
             return (0.0, 0.0);
         }
         let (dx, dy) = (s[0] - d[0], s[4] - d[1]);
@@ -308,9 +364,39 @@ impl ToolPlant {
         d
     }
 
-    /// The delayed `(x, y, ẋ, ẏ)` at grid offset 0 (`t − τ`), 1 (`t + δ − τ`) and the Hermite
-    /// midpoint.
+    /// The state `(x, y, ẋ, ẏ)` `k` grid steps ago (`k = 0`: now; `1 ≤ k ≤ n_delay`: the line).
+    fn ago(&self, k: usize) -> [f64; 4] {
+        if k == 0 {
+            [self.state[0], self.state[4], self.state[1], self.state[5]]
+        } else {
+            self.ring[(self.head + self.n_delay - k) % self.n_delay]
+        }
+    }
+
+    /// The cubic Hermite interpolant of the grid states `a` (older) and `b` (one step later) at
+    /// the fraction `θ` of the step from `a`: positions and velocities.
+    fn hermite(&self, a: [f64; 4], b: [f64; 4], th: f64) -> [f64; 4] {
+        let h = self.dt;
+        let (t2, t3) = (th * th, th * th * th);
+        let (h00, h10, h01, h11) = (2.0 * t3 - 3.0 * t2 + 1.0, t3 - 2.0 * t2 + th, -2.0 * t3 + 3.0 * t2, t3 - t2);
+        let (d00, d10, d01, d11) =
+            (6.0 * t2 - 6.0 * th, 3.0 * t2 - 4.0 * th + 1.0, -6.0 * t2 + 6.0 * th, 3.0 * t2 - 2.0 * th);
+        let pos = |i: usize| h00 * a[i] + h10 * h * a[i + 2] + h01 * b[i] + h11 * h * b[i + 2];
+        let vel = |i: usize| (d00 * a[i] + h * d10 * a[i + 2] + d01 * b[i] + h * d11 * b[i + 2]) / h;
+        [pos(0), pos(1), vel(0), vel(1)]
+    }
+
+    /// The delayed `(x, y, ẋ, ẏ)` at the RK4 stage times `t − τ`, `t + δ − τ` and the midpoint
+    /// `t + δ/2 − τ`.
     fn delayed(&self) -> ([f64; 4], [f64; 4], [f64; 4]) {
+        if self.frac > 0.0 {
+            // τ = (N + f)δ: t − τ lies between N + 1 and N steps ago, θ = 1 − f past the older
+            let n = self.n_delay - 1;
+            let (a, b, c) = (self.ago(n + 1), self.ago(n), self.ago(n - 1));
+            let th = 1.0 - self.frac;
+            let mid = if th < 0.5 { self.hermite(a, b, th + 0.5) } else { self.hermite(b, c, th - 0.5) };
+            return (self.hermite(a, b, th), self.hermite(b, c, th), mid);
+        }
         let d0 = self.ring[self.head];
         let d1 = if self.n_delay == 1 {
             [self.state[0], self.state[4], self.state[1], self.state[5]]
@@ -356,12 +442,18 @@ impl ToolPlant {
                 self.dt
             )));
         }
-        let saved = (self.state, self.ring.clone(), self.head, self.steps);
+        // what the step overwrites, to undo it (not a copy of the whole line every step)
+        let saved = (self.state, self.head, self.steps);
+        let undo: Vec<[f64; 4]> =
+            (0..(n as usize).min(self.n_delay)).map(|k| self.ring[(self.head + k) % self.n_delay]).collect();
         for _ in 0..n as u64 {
             self.rk4(u);
         }
         if !self.state.iter().all(|v| v.is_finite()) {
-            (self.state, self.ring, self.head, self.steps) = saved;
+            (self.state, self.head, self.steps) = saved;
+            for (k, r) in undo.into_iter().enumerate() {
+                self.ring[(self.head + k) % self.n_delay] = r;
+            }
             return Err(ToolError::State("the tool state is no longer finite".into()));
         }
         let d0 = self.ring[self.head];
@@ -371,9 +463,11 @@ impl ToolPlant {
 
     /// Every stored number finite and the delay line consistent with the parameters.
     pub fn validate_state(&self) -> Result<(), String> {
-        let expect = (self.p.delay() / self.p.max_step - 1e-9).ceil().max(1.0) as usize;
-        let dt = self.p.delay() / expect as f64;
-        if self.n_delay != expect || dt.to_bits() != self.dt.to_bits() {
+        let expect = self.p.ring_len();
+        if self.n_delay != expect
+            || self.p.max_step.to_bits() != self.dt.to_bits()
+            || self.p.delay_steps().1.to_bits() != self.frac.to_bits()
+        {
             return Err("integration grid inconsistent with the parameters".into());
         }
         let (cx, cy) = self.p.force_coefficients();

@@ -22,6 +22,14 @@
 //!
 //! A step `[t, t + h]` holds the speed and the feed, and takes `n = ⌈h/max_step⌉` RK4 steps of
 //! `h/n`. Outputs are those at `t + h`.
+//!
+//! # A stopped spindle
+//!
+//! Below [`min_speed`] (one revolution would not fit the history at the internal step), and at
+//! 0 rpm, the spindle counts as stopped: the workpiece does not turn and the tool does not cut
+//! (no chip, no cutting force: `q = −c w s₀^Y`, the static force released, so `x` stays the
+//! displacement from the static equilibrium of the cut at this feed). A master that starts the
+//! speed connection at 0 (FMPy's `simulate_ssp`) used to get fmi2Discard at the first step.
 
 use crate::{TurningError, TurningParams};
 use milling_process::history::{History, MAX_SAMPLES, Sample};
@@ -123,10 +131,9 @@ impl TurningProcess {
         if !(h.is_finite() && h > 0.0) {
             return Err(TurningError::Input(format!("step {h} s is not positive and finite")));
         }
-        let n_min = min_speed(&self.params);
-        if !(i.spindle_speed.is_finite() && i.spindle_speed >= n_min && i.spindle_speed <= 1e6) {
+        if !(i.spindle_speed.is_finite() && (0.0..=1e6).contains(&i.spindle_speed)) {
             return Err(TurningError::Input(format!(
-                "spindle_speed = {} rpm is outside [{n_min:.3}, 1e6] rpm",
+                "spindle_speed = {} rpm is outside [0, 1e6] rpm",
                 i.spindle_speed
             )));
         }
@@ -147,11 +154,19 @@ impl TurningProcess {
         self.history.at_angle(theta - 2.0 * PI).map_or(0.0, |(_, x)| x)
     }
 
+    /// Does the spindle turn (and the tool cut) at the inputs `i`? (See the module doc.)
+    pub fn turning(&self, i: &TurningInputs) -> bool {
+        i.spindle_speed >= min_speed(&self.params)
+    }
+
     /// (q, s): force as deflection and chip at (t, θ, x, u).
     fn force(&self, t: f64, theta: f64, x: f64, u: f64, i: &TurningInputs) -> (f64, f64) {
         let p = &self.params;
         let y = p.force_exponent;
         let s0 = i.feed * p.sin_k();
+        if !self.turning(i) {
+            return (-p.force_factor() * p.depth * s0.powf(y), 0.0);
+        }
         let s = (x - self.delayed(theta) + s0).max(0.0);
         let s0y = s0.powf(y);
         let damping = if p.process_damping > 0.0 && s0 > 0.0 {
@@ -174,7 +189,7 @@ impl TurningProcess {
         self.check(h, i)?;
         let n = (h / self.params.max_step - 1e-9).ceil().max(1.0) as usize;
         let dt = h / n as f64;
-        let omega = 2.0 * PI * i.spindle_speed / 60.0;
+        let omega = if self.turning(i) { 2.0 * PI * i.spindle_speed / 60.0 } else { 0.0 };
         let w2 = self.params.omega_n().powi(2);
         let zw = 2.0 * self.params.damping_ratio * self.params.omega_n();
         let saved = (self.t, self.theta, self.x, self.v);
@@ -244,7 +259,7 @@ mod tests {
         let before = format!("{:?}", p.outputs());
         for i in [
             TurningInputs { spindle_speed: f64::NAN, feed: 0.1 },
-            TurningInputs { spindle_speed: 0.0, feed: 0.1 },
+            TurningInputs { spindle_speed: -1.0, feed: 0.1 },
             TurningInputs { spindle_speed: 450.0, feed: -1.0 },
             TurningInputs { spindle_speed: 450.0, feed: f64::INFINITY },
         ] {
@@ -252,6 +267,34 @@ mod tests {
         }
         assert!(p.step(f64::NAN, &TurningInputs::default()).is_err());
         assert_eq!(before, format!("{:?}", p.outputs()));
+    }
+
+    /// FMPy's `simulate_ssp` starts every connection at 0: `Afrac.ssp` failed at once with
+    /// "spindle_speed = 0 rpm is outside [4.578, 1e6] rpm" (fmi2Discard). A stopped spindle is a
+    /// physical state: no cut, the static force released, the workpiece still.
+    #[test]
+    fn a_stopped_spindle_does_not_cut() {
+        let p0 = TurningParams { pulse_fraction: 0.0, ..Default::default() };
+        let n_min = min_speed(&p0);
+        for speed in [0.0, 0.5 * n_min] {
+            let mut p = TurningProcess::new(&p0).unwrap();
+            let stopped = TurningInputs { spindle_speed: speed, feed: 0.1 };
+            for _ in 0..200 {
+                p.step(1e-4, &stopped).unwrap();
+            }
+            let o = p.outputs();
+            assert_eq!((o.chip, o.angle), (0.0, 0.0), "{speed} rpm");
+            let released = -p0.force_factor() * p0.depth * (0.1 * p0.sin_k()).powf(p0.force_exponent);
+            assert_eq!(o.force, released);
+            assert!(o.x != 0.0, "the tool springs back from the static deflection");
+            // with no feed either (FMPy's first step) nothing moves
+            let mut p = TurningProcess::new(&p0).unwrap();
+            p.step(1e-4, &TurningInputs { spindle_speed: speed, feed: 0.0 }).unwrap();
+            assert_eq!((p.outputs().x, p.outputs().force), (0.0, 0.0));
+            // and the spindle starts again: it cuts
+            p.step(1e-4, &TurningInputs::default()).unwrap();
+            assert!(p.outputs().chip > 0.0);
+        }
     }
 
     #[test]

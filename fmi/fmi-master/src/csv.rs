@@ -52,6 +52,37 @@ pub fn incomplete_marker(csv: &Path) -> PathBuf {
     csv.with_file_name(name)
 }
 
+/// Refuse an output path that would destroy what the run reads or what is not a results file:
+/// one of `inputs` (the system file, its FMUs: `cosim run v.fmu -o v.fmu` replaced the FMU
+/// with a CSV), a directory, or an existing zip archive (an FMU or SSP is never a results CSV).
+/// [`CsvWriter::create`] checks the last two itself; this is for a check before the run starts.
+pub fn check_output(path: &Path, inputs: &[&Path]) -> Result<(), SimError> {
+    let refuse = |message: String| Err(SimError::OutputRefused { path: path.to_path_buf(), message });
+    let same = |a: &Path, b: &Path| match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if let Some(input) = inputs.iter().find(|i| same(path, i)) {
+        return refuse(format!(
+            "is an input of this run ({}); writing the results there would destroy it: choose another -o",
+            input.display()
+        ));
+    }
+    if path.is_dir() {
+        return refuse("is a directory; give a file name for the results CSV (e.g. DIR/results.csv)".into());
+    }
+    let mut head = [0u8; 4];
+    if let Ok(mut f) = std::fs::File::open(path)
+        && std::io::Read::read_exact(&mut f, &mut head).is_ok()
+        && &head == b"PK\x03\x04"
+    {
+        return refuse(
+            "is a zip archive (an FMU or SSP?), not a results CSV; refusing to overwrite it: choose another -o".into(),
+        );
+    }
+    Ok(())
+}
+
 /// An [`Observer`] writing a CSV file as the run goes. Memory is constant;
 /// the header is flushed at once, rows every [`FLUSH_ROWS`] rows or
 /// [`FLUSH_INTERVAL`], and everything when the run ends (also when it
@@ -60,6 +91,9 @@ pub fn incomplete_marker(csv: &Path) -> PathBuf {
 pub struct CsvWriter {
     path: PathBuf,
     out: BufWriter<std::fs::File>,
+    /// The [`incomplete_marker`], locked (exclusive advisory lock) while this writer lives: a
+    /// second run writing the same CSV is refused instead of truncating it under the first.
+    marker: std::fs::File,
     last_flush: Instant,
     rows: u64,
     unflushed: u64,
@@ -67,20 +101,56 @@ pub struct CsvWriter {
 }
 
 impl CsvWriter {
-    /// Create (truncate) the file and write its [`incomplete_marker`].
+    /// Create (truncate) the file and write its [`incomplete_marker`], which this writer holds
+    /// locked until it is dropped. Refused ([`SimError::OutputRefused`]) before anything is
+    /// written: a directory, a zip archive ([`check_output`]), and a CSV whose marker another
+    /// live run holds (two runs writing one CSV left 17.8 MB of NUL bytes, both exiting 0).
+    /// A marker left by a run that died is not locked and is taken over.
     pub fn create(path: &Path) -> Result<CsvWriter, SimError> {
+        check_output(path, &[])?;
         if let Some(dir) = path.parent()
             && !dir.as_os_str().is_empty()
         {
             std::fs::create_dir_all(dir).map_err(|error| SimError::Output { path: dir.to_path_buf(), error })?;
         }
-        let marker = incomplete_marker(path);
-        std::fs::write(&marker, "the run writing this CSV has not finished (it is running, failed or was killed)\n")
-            .map_err(|error| SimError::Output { path: marker, error })?;
-        let f = std::fs::File::create(path).map_err(|error| SimError::Output { path: path.to_path_buf(), error })?;
+        let marker_path = incomplete_marker(path);
+        let io = |p: &Path| {
+            let p = p.to_path_buf();
+            move |error| SimError::Output { path: p, error }
+        };
+        let mut marker = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&marker_path)
+            .map_err(io(&marker_path))?;
+        match marker.try_lock() {
+            Ok(()) => {}
+            Err(std::fs::TryLockError::WouldBlock) => {
+                let holder = std::fs::read_to_string(&marker_path).unwrap_or_default();
+                return Err(SimError::OutputRefused {
+                    path: path.to_path_buf(),
+                    message: format!(
+                        "another run is writing this CSV now ({}): wait for it or choose another -o",
+                        holder.trim()
+                    ),
+                });
+            }
+            Err(std::fs::TryLockError::Error(error)) => return Err(SimError::Output { path: marker_path, error }),
+        }
+        marker.set_len(0).map_err(io(&marker_path))?;
+        writeln!(
+            marker,
+            "the run writing this CSV has not finished (it is running, failed or was killed); process {}",
+            std::process::id()
+        )
+        .map_err(io(&marker_path))?;
+        let f = std::fs::File::create(path).map_err(io(path))?;
         Ok(CsvWriter {
             path: path.to_path_buf(),
             out: BufWriter::with_capacity(1 << 16, f),
+            marker,
             last_flush: Instant::now(),
             rows: 0,
             unflushed: 0,
@@ -102,8 +172,11 @@ impl CsvWriter {
     pub fn mark_failed(&mut self, reason: &str) -> Result<(), SimError> {
         self.flush()?;
         let marker = incomplete_marker(&self.path);
-        std::fs::write(&marker, format!("the run writing this CSV failed: {reason}\n"))
-            .map_err(|error| SimError::Output { path: marker, error })
+        let text = format!("the run writing this CSV failed: {reason}\n");
+        // through the locked handle: the file another run may be waiting on is this one
+        let mut f = &self.marker;
+        let r = f.set_len(0).and_then(|()| std::io::Seek::rewind(&mut f)).and_then(|()| f.write_all(text.as_bytes()));
+        r.map_err(|error| SimError::Output { path: marker, error })
     }
 
     fn flush(&mut self) -> Result<(), SimError> {
@@ -286,6 +359,53 @@ mod tests {
         assert!(std::fs::read_to_string(incomplete_marker(&p)).unwrap().contains("an FMU failed"));
         drop(w);
         assert!(incomplete_marker(&p).is_file(), "only complete() removes the marker");
+    }
+
+    /// Two runs writing the default `results.csv` both exited 0: the second truncated the file
+    /// under the first, which then wrote at its old offset (17.8 MB of NUL bytes), and the first
+    /// to finish deleted the marker of the other. The second is refused now, before it writes.
+    #[test]
+    fn a_second_writer_of_the_same_csv_is_refused_while_the_first_lives() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("results.csv");
+        let mut first = CsvWriter::create(&p).unwrap();
+        first.start(&["x".into()]).unwrap();
+        first.sample(0.0, &[1.0]).unwrap();
+        let e = CsvWriter::create(&p).err().expect("the second writer is refused").to_string();
+        assert!(e.contains("another run is writing this CSV now") && e.contains("process"), "{e}");
+        first.sample(1.0, &[2.0]).unwrap();
+        first.finish().unwrap();
+        first.complete().unwrap();
+        assert_eq!(read_csv(&p).unwrap().column("x").unwrap(), &[1.0, 2.0], "the first run's rows are intact");
+        drop(first);
+        // a marker left behind by a run that died is not locked: the next run takes it over
+        std::fs::write(incomplete_marker(&p), "left by a killed run\n").unwrap();
+        let mut again = CsvWriter::create(&p).unwrap();
+        again.mark_failed("test").unwrap();
+        let marker = std::fs::read_to_string(incomplete_marker(&p)).unwrap();
+        assert_eq!(marker, "the run writing this CSV failed: test\n", "rewritten from its start, no NUL bytes");
+    }
+
+    /// `-o <directory>` failed only after writing a stray `<directory>.incomplete`; `-o v.fmu`
+    /// replaced the FMU with a CSV.
+    #[test]
+    fn directories_archives_and_inputs_are_refused_before_anything_is_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let sub = dir.path().join("out");
+        std::fs::create_dir(&sub).unwrap();
+        let e = CsvWriter::create(&sub).err().unwrap().to_string();
+        assert!(e.contains("is a directory"), "{e}");
+        assert!(!incomplete_marker(&sub).exists(), "no stray marker");
+        let fmu = dir.path().join("v.fmu");
+        std::fs::write(&fmu, b"PK\x03\x04 rest of an archive").unwrap();
+        let e = CsvWriter::create(&fmu).err().unwrap().to_string();
+        assert!(e.contains("is a zip archive"), "{e}");
+        assert_eq!(std::fs::read(&fmu).unwrap(), b"PK\x03\x04 rest of an archive");
+        let ssd = dir.path().join("s.ssd");
+        std::fs::write(&ssd, "<xml/>").unwrap();
+        let e = check_output(&dir.path().join("./s.ssd"), &[&ssd]).unwrap_err().to_string();
+        assert!(e.contains("is an input of this run"), "{e}");
+        check_output(&dir.path().join("r.csv"), &[&ssd]).unwrap();
     }
 
     #[test]

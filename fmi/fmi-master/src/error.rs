@@ -243,6 +243,18 @@ pub enum SimError {
         /// The operating system's error.
         error: std::io::Error,
     },
+    /// An output path that the run must not write (an input of the run, a directory, or a
+    /// file another run is writing).
+    #[error("output {}: {message}", path.display())]
+    OutputRefused {
+        /// The output file.
+        path: PathBuf,
+        /// Why.
+        message: String,
+    },
+    /// The fixed-point iteration of an algebraic loop did not converge.
+    #[error("{0}")]
+    AlgebraicLoop(String),
 }
 
 #[cfg(test)]

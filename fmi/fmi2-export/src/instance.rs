@@ -248,11 +248,13 @@ struct RealCheck {
     states: u32,
     lo: f64,
     hi: f64,
+    /// A tunable parameter (a set after initialization asks the model to [retune](Fmi2Model::retune)).
+    tunable: bool,
 }
 
 impl RealCheck {
     /// Undeclared value references: settable in no state.
-    const NONE: RealCheck = RealCheck { states: 0, lo: f64::NAN, hi: f64::NAN };
+    const NONE: RealCheck = RealCheck { states: 0, lo: f64::NAN, hi: f64::NAN, tunable: false };
 
     /// One entry per Real value reference (dense, like [`VarIndex`]).
     fn table(md: &ModelDescription) -> Vec<RealCheck> {
@@ -267,7 +269,8 @@ impl RealCheck {
             }
             let states = State::ALL.iter().filter(|&&s| settable_in(s, v)).fold(0, |m, &s| m | mask::bit(s));
             let (lo, hi) = v.range();
-            t[vr] = RealCheck { states, lo: lo.unwrap_or(f64::NEG_INFINITY), hi: hi.unwrap_or(f64::INFINITY) };
+            let tunable = v.causality == Causality::Parameter && v.variability == Variability::Tunable;
+            t[vr] = RealCheck { states, lo: lo.unwrap_or(f64::NEG_INFINITY), hi: hi.unwrap_or(f64::INFINITY), tunable };
         }
         t
     }
@@ -305,6 +308,9 @@ pub struct Instance<M: Fmi2Model> {
     index: VarIndex,
     /// The per-step checks of `fmi2SetReal`, by value reference.
     real_checks: Vec<RealCheck>,
+    /// The Real outputs (value reference, position in the description), checked finite after
+    /// every step and after initialization ([`Instance::check_outputs`]).
+    real_outputs: Vec<(ValueReference, usize)>,
     /// Current state.
     pub state: State,
     env: Environment,
@@ -315,6 +321,8 @@ pub struct Instance<M: Fmi2Model> {
     stop_time: Option<f64>,
     /// Parameters or inputs changed since the model was last built (initialization mode).
     dirty: bool,
+    /// A tunable parameter changed since the last step: the model retunes before the next one.
+    retune: bool,
     debug_categories: Vec<bool>,
     sink: Box<dyn LogSink>,
     /// The message of the `fmi2Error` that put the instance in [`State::Error`].
@@ -346,6 +354,13 @@ impl<M: Fmi2Model> Instance<M> {
             md,
             index,
             real_checks: RealCheck::table(md),
+            real_outputs: md
+                .variables()
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| v.causality == Causality::Output && v.scalar_type() == ScalarType::Real)
+                .map(|(i, v)| (v.value_reference, i))
+                .collect(),
             state: State::Instantiated,
             env,
             values: Values::from_description(md),
@@ -354,6 +369,7 @@ impl<M: Fmi2Model> Instance<M> {
             start_time: 0.0,
             stop_time: None,
             dirty: true,
+            retune: false,
             debug_categories: vec![logging_on; LOG_CATEGORIES.len()],
             sink,
             error_cause: None,
@@ -454,9 +470,37 @@ impl<M: Fmi2Model> Instance<M> {
     fn build_model(&mut self) -> CallResult<()> {
         let model = M::initialize(&self.values, &self.env).map_err(CallError::Error)?;
         model.update_outputs(&mut self.values);
+        self.check_outputs().map_err(|m| CallError::error(format!("initialization: {m}")))?;
         self.model = Some(model);
         self.dirty = false;
         Ok(())
+    }
+
+    /// Every Real output is finite: a model whose arithmetic overflowed (an input of 1e308, a
+    /// diverging state) must not hand NaN or ±Inf to the master with `fmi2OK`. The error names
+    /// the outputs and the inputs they were computed from.
+    fn check_outputs(&self) -> Result<(), String> {
+        let vars = self.md.variables();
+        let bad: Vec<String> = self
+            .real_outputs
+            .iter()
+            .filter(|&&(vr, _)| !self.values.real(vr).is_finite())
+            .map(|&(vr, i)| format!("{} = {}", vars[i].name, self.values.real(vr)))
+            .collect();
+        if bad.is_empty() {
+            return Ok(());
+        }
+        let inputs: Vec<String> = vars
+            .iter()
+            .filter(|v| v.causality == Causality::Input && v.scalar_type() == ScalarType::Real)
+            .map(|v| format!("{} = {:e}", v.name, self.values.real(v.value_reference)))
+            .collect();
+        Err(format!(
+            "non-finite output{} {} (the model's arithmetic overflowed; inputs {}); the instance cannot continue",
+            if bad.len() > 1 { "s" } else { "" },
+            bad.join(", "),
+            if inputs.is_empty() { "none".to_string() } else { inputs.join(", ") }
+        ))
     }
 
     /// `fmi2ExitInitializationMode`: builds the model from the parameters.
@@ -483,6 +527,7 @@ impl<M: Fmi2Model> Instance<M> {
         self.start_time = 0.0;
         self.stop_time = None;
         self.dirty = true;
+        self.retune = false;
         self.state = State::Instantiated;
         self.error_cause = None;
         Ok(())
@@ -552,6 +597,8 @@ impl<M: Fmi2Model> Instance<M> {
         }
         if matches!(self.state, State::Instantiated | State::InitializationMode) {
             self.dirty = true;
+        } else if vrs.iter().any(|&vr| self.real_checks.get(vr as usize).is_some_and(|c| c.tunable)) {
+            self.retune = true;
         }
         Ok(())
     }
@@ -617,7 +664,9 @@ impl<M: Fmi2Model> Instance<M> {
             let v = self.lookup(call, ty, vr)?;
             self.check_value(call, v, x)?;
         }
+        let mut tuned = false;
         for (&vr, x) in vrs.iter().zip(vals) {
+            tuned |= self.lookup(call, ty, vr).is_ok_and(|v| v.causality == Causality::Parameter);
             match x {
                 Value::Real(r) => self.values.set_real(vr, *r),
                 Value::Integer(i) => self.values.set_integer(vr, *i),
@@ -627,6 +676,8 @@ impl<M: Fmi2Model> Instance<M> {
         }
         if matches!(self.state, State::Instantiated | State::InitializationMode) {
             self.dirty = true;
+        } else if tuned {
+            self.retune = true;
         }
         Ok(())
     }
@@ -666,12 +717,16 @@ impl<M: Fmi2Model> Instance<M> {
                 h * MAX_INTERNAL_STEPS_PER_CALL / cost
             )));
         }
+        if self.retune {
+            model.retune(&self.values).map_err(|m| CallError::error(format!("fmi2DoStep at t = {now}: {m}")))?;
+            self.retune = false;
+        }
         let step = self.clock.step_for(h);
         let mut log = StepLog { sink: self.sink.as_mut(), info_on, warn_on };
         match model.do_step(&mut self.values, now, step.0, &mut log) {
             Ok(()) => {
                 self.clock.advance_by(step);
-                Ok(())
+                self.check_outputs().map_err(|m| CallError::error(format!("fmi2DoStep at t = {now}: {m}")))
             }
             Err(StepError::Discard(m)) => {
                 self.state = State::StepFailed;
@@ -715,6 +770,8 @@ impl<M: Fmi2Model> Instance<M> {
         self.start_time = snap.start_time;
         self.stop_time = snap.stop_time;
         self.dirty = snap.dirty;
+        // the restored values may hold other tunable parameters than the model was last tuned to
+        self.retune = self.model.is_some();
     }
 }
 

@@ -77,6 +77,15 @@ pub trait Fmi2Model: Sized + Send + Clone + Serialize + DeserializeOwned + 'stat
         1.0
     }
 
+    /// Apply the tunable parameters in `values` (set by the master since the last step) to the
+    /// running model, keeping its state; called before the next [`Fmi2Model::do_step`]. An `Err`
+    /// is `fmi2Error` with the message. The default does nothing: right for models that read no
+    /// tunable parameter, or read them from `values` in every step.
+    fn retune(&mut self, values: &Values) -> Result<(), String> {
+        let _ = values;
+        Ok(())
+    }
+
     /// Check a model restored from a serialized FMU state (`fmi2DeSerializeFMUstate`) before it
     /// is accepted: the same validation as its parameters get at initialization, plus the
     /// invariants of its state (finite values, buffer shapes, derived fields), so that a

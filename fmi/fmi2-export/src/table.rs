@@ -182,6 +182,8 @@ pub struct Attrs {
     pub description: &'static str,
     /// A Real output that changes only at sample instants (`variability="discrete"`).
     pub discrete: bool,
+    /// A parameter that may change between steps (`variability="tunable"`).
+    pub tunable: bool,
 }
 
 type Getter<S> = Box<dyn Fn(&S) -> Value + Send + Sync>;
@@ -284,6 +286,7 @@ impl<S: 'static> Row<S> {
     fn scalar_variable(&self, c: Causality, start: Option<Value>) -> ScalarVariable {
         let a = &self.attrs;
         let variability = match (c, self.ty) {
+            (Causality::Parameter, _) if a.tunable => Variability::Tunable,
             (Causality::Parameter, _) => Variability::Fixed,
             (_, ScalarType::Real) if !a.discrete => Variability::Continuous,
             _ => Variability::Discrete,
@@ -314,6 +317,9 @@ impl<S: 'static> Row<S> {
         v
     }
 }
+
+/// The copyright notice of every FMU of this layer.
+pub const COPYRIGHT: &str = "Copyright (c) the chatter-fmu authors";
 
 /// The rows of an FMU, by causality (built by [`variables!`](crate::variables!)).
 pub struct Variables<P, I, O> {
@@ -423,6 +429,18 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
     /// enumeration types in order of first use.
     pub fn model_description(&self, params: &P) -> Result<ModelDescription, DescriptionError> {
         let h = &self.header;
+        // every Real variable says its unit ("1" when dimensionless)
+        let all = self.vars.inputs.iter().map(|r| (&r.attrs, r.ty));
+        let all = all.chain(self.vars.outputs.iter().map(|r| (&r.attrs, r.ty)));
+        if let Some((a, _)) = all
+            .chain(self.vars.parameters.iter().map(|r| (&r.attrs, r.ty)))
+            .find(|(a, ty)| *ty == ScalarType::Real && a.unit.is_empty())
+        {
+            return Err(DescriptionError::Invalid(format!(
+                "{}: the Real variable {} has no unit (give \"1\" for a dimensionless one)",
+                h.identifier, a.name
+            )));
+        }
         let inputs = I::default();
         let mut vars = Vec::new();
         let mut units: Vec<&str> = Vec::new();
@@ -442,7 +460,8 @@ impl<P: Default + 'static, I: Default + 'static, O: 'static> Table<P, I, O> {
         let (start, stop, step) = h.default_experiment;
         let mut b = ModelBuilder::new(h.model_name, h.identifier)
             .description(h.description)
-            .author_version("chatter-fmu", env!("CARGO_PKG_VERSION"));
+            .author_version("chatter-fmu", env!("CARGO_PKG_VERSION"))
+            .legal(COPYRIGHT, env!("CARGO_PKG_LICENSE"));
         for u in units {
             b = b.known_unit(u)?;
         }

@@ -126,11 +126,14 @@ fn parse_ssd(xml: &str, file: &str, read_source: Option<SourceReader<'_>>) -> Re
     }
     let system = doc.system.as_ref().ok_or_else(|| invalid(file, "no ssd:System element"))?;
     let mut components: Vec<ComponentDesc> = Vec::new();
+    // names seen (a set: comparing each component with all before it made a 4 MB SSD of 37 500
+    // components take 7.4 s, quadratic in their number)
+    let mut names = std::collections::HashSet::new();
     for e in system.elements.iter().flat_map(|e| &e.items) {
         match e {
             schema::Element::Component(c) => {
                 let c = component(c, file, read_source)?;
-                if components.iter().any(|k| k.name == c.name) {
+                if !names.insert(c.name.clone()) {
                     return Err(invalid(file, format!("two components are named {}", c.name)));
                 }
                 components.push(c);
@@ -163,4 +166,23 @@ fn parse_ssd(xml: &str, file: &str, read_source: Option<SourceReader<'_>>) -> Re
         stop_time: opt_f64(file, "stopTime", de.and_then(|d| d.stop_time.as_deref()))?,
         master: master_settings(de.and_then(|d| d.annotations.as_ref()), file)?,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    /// 37 500 components (a 3.6 MB SSD with 300 000 attributes, 8 per component) took 7.4 s in
+    /// `cosim info`: each name was compared with every one before it. A duplicate is still
+    /// refused.
+    #[test]
+    fn many_components_read_and_a_duplicate_name_is_refused() {
+        let head = r#"<ssd:SystemStructureDescription xmlns:ssd="http://ssp-standard.org/SSP1/SystemStructureDescription" version="1.0" name="x"><ssd:System name="s"><ssd:Elements>"#;
+        let tail = "</ssd:Elements></ssd:System></ssd:SystemStructureDescription>";
+        let comps: String =
+            (0..37_500).map(|k| format!(r#"<ssd:Component name="c{k}" source="resources/X.fmu"/>"#)).collect();
+        let d = crate::SystemDescription::from_xml(&format!("{head}{comps}{tail}"), "many.ssd", None).unwrap();
+        assert_eq!(d.components.len(), 37_500);
+        let twice = format!(r#"{head}{comps}<ssd:Component name="c7" source="resources/X.fmu"/>{tail}"#);
+        let e = crate::SystemDescription::from_xml(&twice, "twice.ssd", None).unwrap_err().to_string();
+        assert!(e.contains("two components are named c7"), "{e}");
+    }
 }

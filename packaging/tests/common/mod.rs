@@ -46,7 +46,9 @@ pub fn official_headers() -> PathBuf {
         .expect("cargo metadata");
     assert!(out.status.success(), "cargo metadata failed: {}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
-    let pos = text.find("\"name\":\"fmi-sys\"").expect("fmi-sys in cargo metadata");
+    // the package entry (`"name":"fmi-sys","version":…`), not a dependency entry of a package
+    // that uses it (`"name":"fmi-sys","source":…`, e.g. the `fmi` importer's)
+    let pos = text.find("\"name\":\"fmi-sys\",\"version\"").expect("fmi-sys in cargo metadata");
     let tail = &text[pos..];
     let key = "\"manifest_path\":\"";
     let start = tail.find(key).unwrap() + key.len();

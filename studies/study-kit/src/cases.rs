@@ -5,7 +5,8 @@
 //!
 //! ```text
 //! DIR/manifest.json        the study (its spec) and every case: stable ID + parameters
-//! DIR/cases/<ID>.result    one finished case (postcard bytes), written atomically
+//! DIR/cases/<ID>.result    one finished case: its ID, its parameters and its result (postcard
+//!                          bytes) with a checksum, written atomically
 //! DIR/...                  what the cases stream (per-run CSVs) and what collect writes
 //! ```
 //!
@@ -17,7 +18,10 @@
 //!   IDs) in parallel (rayon) and writes each result to a temporary file renamed into place,
 //!   so a result file is complete or absent. Cases with a result are skipped: re-running after
 //!   an interruption completes only what is missing, and two workers that run the same case
-//!   (a retry after a lost worker) write the same bytes.
+//!   (a retry after a lost worker) write the same bytes. A result is used only if it verifies
+//!   ([`read_result`]): its checksum, its case ID and its parameters must match the manifest's,
+//!   so a flipped bit or a result file copied under another case's name is re-run with a
+//!   warning, never collected (one flipped bit made Table 5 print PID as 133467 µm).
 //! * [`collect`] reads every result (an error names the missing cases) and lets the study
 //!   write its tables and figures. Collected files contain no timings, so a study collected
 //!   after a local run, a sharded run or a Dask/Slurm run is byte-identical.
@@ -252,9 +256,81 @@ pub fn open<S: CaseStudy>(dir: &Path) -> Result<(S, Vec<ManifestCase<S::Case>>)>
     Ok((S::from_spec(m.spec)?, m.cases))
 }
 
-fn read_result<O: DeserializeOwned>(path: &Path) -> Option<O> {
-    let bytes = std::fs::read(path).ok()?;
-    postcard::from_bytes(&bytes).ok()
+/// The first bytes of a result file (format 2: with the case and a checksum).
+const RESULT_MAGIC: &[u8; 8] = b"CHCASE\0\x02";
+
+/// A result file's bytes: [`RESULT_MAGIC`], the case ID and the postcard bytes of the case's
+/// parameters (each as a u32 LE length and the bytes), the postcard bytes of the output, and
+/// the FNV-1a 64 checksum (u64 LE) of everything before it.
+pub fn result_bytes<C: Serialize, O: Serialize>(id: &str, case: &C, out: &O) -> Result<Vec<u8>> {
+    let err = |e: postcard::Error| StudyError::Invalid(format!("case {id}: {e}"));
+    let params = postcard::to_allocvec(case).map_err(err)?;
+    let mut b = RESULT_MAGIC.to_vec();
+    for part in [id.as_bytes(), params.as_slice()] {
+        b.extend_from_slice(&(part.len() as u32).to_le_bytes());
+        b.extend_from_slice(part);
+    }
+    let mut b = postcard::to_extend(out, b).map_err(err)?;
+    let sum = fmi2_export::fnv1a64(&b);
+    b.extend_from_slice(&sum.to_le_bytes());
+    Ok(b)
+}
+
+/// What a case's result file holds.
+#[derive(Debug)]
+pub enum Stored<O> {
+    /// No file.
+    Missing,
+    /// A file that does not verify, and why (re-run the case).
+    Invalid(String),
+    /// The verified result.
+    Verified(O),
+}
+
+/// Read the result of case `id` with parameters `case` from `path`: [`Stored::Verified`] only if
+/// the checksum holds and the file names this case with these parameters.
+pub fn read_result<C: Serialize, O: DeserializeOwned>(path: &Path, id: &str, case: &C) -> Stored<O> {
+    let bytes = match std::fs::read(path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Stored::Missing,
+        Err(e) => return Stored::Invalid(format!("cannot read it: {e}")),
+    };
+    match verify(&bytes, id, case) {
+        Ok(out) => Stored::Verified(out),
+        Err(why) => Stored::Invalid(why),
+    }
+}
+
+fn verify<C: Serialize, O: DeserializeOwned>(bytes: &[u8], id: &str, case: &C) -> std::result::Result<O, String> {
+    let body = bytes.strip_prefix(RESULT_MAGIC).ok_or("not a case result of this format (bad header)")?;
+    if body.len() < 8 {
+        return Err("truncated".into());
+    }
+    let (all, sum) = bytes.split_at(bytes.len() - 8);
+    if fmi2_export::fnv1a64(all).to_le_bytes() != sum {
+        return Err("checksum mismatch (the file was changed or damaged)".into());
+    }
+    let mut rest = &all[RESULT_MAGIC.len()..];
+    let mut part = || -> std::result::Result<&[u8], String> {
+        let n = rest.get(..4).ok_or("truncated")?;
+        let n = u32::from_le_bytes([n[0], n[1], n[2], n[3]]) as usize;
+        let p = rest.get(4..4 + n).ok_or("truncated")?;
+        rest = &rest[4 + n..];
+        Ok(p)
+    };
+    let (stored_id, stored_params) = (part()?, part()?);
+    if stored_id != id.as_bytes() {
+        return Err(format!("it is the result of case {:?}", String::from_utf8_lossy(stored_id)));
+    }
+    let params = postcard::to_allocvec(case).map_err(|e| e.to_string())?;
+    if stored_params != params.as_slice() {
+        return Err("it was computed with other parameters than the manifest's".into());
+    }
+    let (out, tail) = postcard::take_from_bytes::<O>(rest).map_err(|e| format!("unreadable result: {e}"))?;
+    if !tail.is_empty() {
+        return Err("trailing bytes after the result".into());
+    }
+    Ok(out)
 }
 
 /// A case-count progress bar on a terminal (none when stderr is redirected: lines instead).
@@ -276,8 +352,10 @@ fn progress_bar(n: u64) -> Option<indicatif::ProgressBar> {
 pub struct RunSummary {
     /// Cases run now.
     pub ran: Vec<String>,
-    /// Cases skipped (a result was there).
+    /// Cases skipped (a verified result was there).
     pub skipped: Vec<String>,
+    /// Cases whose result did not verify, with the reason (they are run again, in `ran`).
+    pub rerun: Vec<(String, String)>,
     /// Cases that failed, with the error.
     pub failed: Vec<(String, String)>,
 }
@@ -298,17 +376,18 @@ pub fn run_opened<S: CaseStudy>(
     let ids: Vec<String> = cases.iter().map(|c| c.id.clone()).collect();
     let picked = selection.positions(&ids)?;
     let mut summary = RunSummary::default();
-    let todo: Vec<&ManifestCase<S::Case>> = picked
-        .iter()
-        .map(|&k| &cases[k])
-        .filter(|c| {
-            let done = read_result::<S::Output>(&result_path(dir, &c.id)).is_some();
-            if done {
-                summary.skipped.push(c.id.clone());
+    let mut todo: Vec<&ManifestCase<S::Case>> = Vec::new();
+    for c in picked.iter().map(|&k| &cases[k]) {
+        match read_result::<S::Case, S::Output>(&result_path(dir, &c.id), &c.id, &c.params) {
+            Stored::Verified(_) => summary.skipped.push(c.id.clone()),
+            Stored::Missing => todo.push(c),
+            Stored::Invalid(why) => {
+                eprintln!("warning: case {}: its result does not verify ({why}); running it again", c.id);
+                summary.rerun.push((c.id.clone(), why));
+                todo.push(c);
             }
-            !done
-        })
-        .collect();
+        }
+    }
     let bar = progress_bar(todo.len() as u64);
     let say = |line: String| match &bar {
         Some(b) => b.println(line),
@@ -317,11 +396,9 @@ pub fn run_opened<S: CaseStudy>(
     let outcomes: Vec<(String, Result<()>)> = todo
         .par_iter()
         .map(|c| {
-            let r = study.run_case(dir, &c.id, &c.params, &say).and_then(|out| {
-                let bytes =
-                    postcard::to_allocvec(&out).map_err(|e| StudyError::Invalid(format!("case {}: {e}", c.id)))?;
-                write_atomic(&result_path(dir, &c.id), &bytes)
-            });
+            let r = study
+                .run_case(dir, &c.id, &c.params, &say)
+                .and_then(|out| write_atomic(&result_path(dir, &c.id), &result_bytes(&c.id, &c.params, &out)?));
             if let Some(b) = &bar {
                 b.inc(1);
             }
@@ -349,9 +426,10 @@ pub fn results<S: CaseStudy>(dir: &Path, cases: Vec<ManifestCase<S::Case>>) -> R
     let mut results = Vec::with_capacity(cases.len());
     let mut missing = Vec::new();
     for c in cases {
-        match read_result::<S::Output>(&result_path(dir, &c.id)) {
-            Some(out) => results.push((c.id, c.params, out)),
-            None => missing.push(c.id),
+        match read_result::<S::Case, S::Output>(&result_path(dir, &c.id), &c.id, &c.params) {
+            Stored::Verified(out) => results.push((c.id, c.params, out)),
+            Stored::Missing => missing.push(c.id),
+            Stored::Invalid(why) => missing.push(format!("{} (its result does not verify: {why})", c.id)),
         }
     }
     if !missing.is_empty() {
@@ -461,6 +539,37 @@ mod tests {
         std::fs::write(result_path(tmp.path(), "k02"), []).unwrap();
         let s = run::<Squares>(tmp.path(), &Selection::Index(2)).unwrap();
         assert_eq!(s.ran, vec!["k02".to_string()]);
+    }
+
+    /// A result with one flipped bit (byte 12 of `cases/pid-s01.result` made Table 5 print PID
+    /// as "133467.26 ± 188745.29 µm", exit 0) or copied under another case's name was used; it
+    /// is re-run with a warning now, and `collect` names it instead of using it.
+    #[test]
+    fn flipped_or_swapped_results_are_rerun_not_used() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        plan(&Squares { spec: 4 }, dir).unwrap();
+        run::<Squares>(dir, &Selection::All).unwrap();
+        let good = collect::<Squares>(dir).unwrap().text;
+        // every single bit of a result file, flipped, is caught
+        let bytes = std::fs::read(result_path(dir, "k03")).unwrap();
+        for i in 0..bytes.len() * 8 {
+            let mut b = bytes.clone();
+            b[i / 8] ^= 1 << (i % 8);
+            std::fs::write(result_path(dir, "k03"), &b).unwrap();
+            let e = collect::<Squares>(dir).unwrap_err().to_string();
+            assert!(e.contains("k03 (its result does not verify"), "bit {i}: {e}");
+        }
+        // k02's result under k03's name: the checksum holds, the case does not
+        std::fs::copy(result_path(dir, "k02"), result_path(dir, "k03")).unwrap();
+        let e = collect::<Squares>(dir).unwrap_err().to_string();
+        assert!(e.contains("it is the result of case \"k02\""), "{e}");
+        let before = runs(dir);
+        let s = run::<Squares>(dir, &Selection::All).unwrap();
+        assert_eq!(s.ran, vec!["k03".to_string()]);
+        assert_eq!(s.rerun.len(), 1);
+        assert_eq!(runs(dir) - before, 1);
+        assert_eq!(collect::<Squares>(dir).unwrap().text, good);
     }
 
     #[test]

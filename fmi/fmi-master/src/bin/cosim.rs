@@ -19,7 +19,7 @@
 
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
-use fmi_master::engine::{Progress, RunConfig, Simulation};
+use fmi_master::engine::{AlgebraicLoops, Progress, RunConfig, Simulation};
 use fmi_master::import::process::{RunInProgress, install_exit_guard, install_signal_cleanup};
 use fmi_master::overrides::Override;
 use fmi_master::plot::Mark;
@@ -96,9 +96,17 @@ struct RunArgs {
     /// Output interval [s] (a multiple of the step); default: every step.
     #[arg(long)]
     output_interval: Option<f64>,
-    /// Results CSV.
+    /// Results CSV (refused if it is an input of the run, a directory, an FMU/SSP archive, or a
+    /// CSV another run is writing now).
     #[arg(short, long, default_value = "results.csv")]
     output: PathBuf,
+    /// The most communication steps the run may take (default 100000000).
+    #[arg(long)]
+    max_steps: Option<u64>,
+    /// An algebraic loop (connections through declared direct feedthrough) is refused (refuse,
+    /// the default) or solved by fixed-point iteration at every communication point (iterate).
+    #[arg(long, value_name = "refuse|iterate", default_value = "refuse")]
+    algebraic_loops: String,
     /// No progress bar, no summary.
     #[arg(short, long)]
     quiet: bool,
@@ -156,6 +164,12 @@ fn run(a: RunArgs) -> Result<()> {
         None => None,
         Some(s) => Some(Order::parse(s).with_context(|| format!("--order {s}: expected gauss-seidel or jacobi"))?),
     };
+    let algebraic_loops = match a.algebraic_loops.as_str() {
+        "refuse" => AlgebraicLoops::Refuse,
+        "iterate" => AlgebraicLoops::Iterate,
+        other => anyhow::bail!("--algebraic-loops {other}: expected refuse or iterate"),
+    };
+    fmi_master::csv::check_output(&a.output, &[a.system.as_path()])?;
     let cfg = RunConfig {
         start: a.start_time,
         stop: a.stop_time,
@@ -166,6 +180,8 @@ fn run(a: RunArgs) -> Result<()> {
         record: a.record.clone(),
         output_interval: a.output_interval,
         echo_fmu_log: a.common.fmu_log,
+        max_steps: a.max_steps,
+        algebraic_loops,
     };
     let mut sim = Simulation::new(&sys, &cfg)?;
     let mut csv = fmi_master::csv::CsvWriter::create(&a.output)?;
@@ -282,6 +298,14 @@ fn plot(a: PlotArgs) -> Result<()> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
+    let same =
+        |x: &Path| std::fs::canonicalize(x).ok().is_some_and(|x| Some(x) == std::fs::canonicalize(&a.output).ok());
+    if same(&a.csv) || a.system.as_deref().is_some_and(same) {
+        anyhow::bail!(
+            "-o {}: is an input of this command; writing the plot there would destroy it",
+            a.output.display()
+        );
+    }
     let sys = a.system.as_ref().map(|s| open_system(s, a.fmu_dir.as_ref())).transpose()?;
     fmi_master::plot::plot_csv(&a.csv, &a.vars, &a.output, a.spectrum.map(|f| (f, marks)), sys.as_ref())?;
     eprintln!("wrote {}", a.output.display());

@@ -18,7 +18,8 @@
 //!    stop)`, apply the assignments, enter and exit initialization mode.
 //!    Instances already created are closed if a later step fails.
 
-use crate::engine::config::{RunConfig, Timing};
+use crate::engine::config::{AlgebraicLoops, RunConfig, Timing};
+use crate::engine::loops;
 use crate::engine::ports::{Api, Component, Components, Ports, Probe, Route, api_of};
 use crate::error::{SetupError, SimError};
 use crate::import::{Fmu, Instance};
@@ -35,6 +36,8 @@ pub(crate) struct Assembled {
     pub timing: Timing,
     pub probes: Vec<Probe>,
     pub record_names: Vec<String>,
+    /// The connections close an algebraic loop (and the run iterates it).
+    pub algebraic_loop: bool,
 }
 
 /// An unknown variable of `comp`, with "did you mean" suggestions.
@@ -129,9 +132,13 @@ fn wire(
     names: &[String],
     outputs: &mut [Ports],
     inputs: &mut [Ports],
-) -> Result<Vec<Route>, SetupError> {
+) -> Result<(Vec<Route>, Vec<loops::Edge>), SetupError> {
     let mut routes = Vec::new();
+    let mut edges = Vec::new();
     let mut driven = std::collections::HashSet::new();
+    // by name, not a search per connection: linear in the size of a (hostile) SSD
+    let by_name: std::collections::HashMap<&str, usize> =
+        names.iter().enumerate().map(|(i, n)| (n.as_str(), i)).collect();
     for conn in &desc.connections {
         let label = format!("connection {}", conn.label());
         let (Some(se), Some(ee)) = (&conn.start_element, &conn.end_element) else {
@@ -140,7 +147,7 @@ fn wire(
             )));
         };
         let find = |e: &str| {
-            names.iter().position(|n| n == e).ok_or_else(|| SetupError::UnknownComponent {
+            by_name.get(e).copied().ok_or_else(|| SetupError::UnknownComponent {
                 name: format!("{e}' in {label} '"),
                 known: names.join(", "),
             })
@@ -194,8 +201,9 @@ fn wire(
         let src_slot = outputs[s].slot(api, sv.value_reference);
         let dst_slot = inputs[e].slot(api, ev.value_reference);
         routes.push(Route { src: s, src_slot, dst: e, dst_slot, api, linear: conn.linear });
+        edges.push(((s, sv.value_reference), (e, ev.value_reference)));
     }
-    Ok(routes)
+    Ok((routes, edges))
 }
 
 /// A direct connection passes the number unchanged, so both ends must mean the same unit: the
@@ -270,7 +278,7 @@ fn probes(
     single: bool,
     recorded: &mut [Ports],
 ) -> Result<(Vec<Probe>, Vec<String>), SetupError> {
-    let (mut probes, mut columns) = (Vec::new(), Vec::new());
+    let (mut probes, mut columns): (Vec<Probe>, Vec<String>) = (Vec::new(), Vec::new());
     let display = |c: usize, v: &str| if single { v.to_string() } else { format!("{}.{v}", names[c]) };
     match &cfg.record {
         Some(list) => {
@@ -283,7 +291,15 @@ fn probes(
                 let api = api_of(v).ok_or_else(|| {
                     SetupError::TypeMismatch(format!("--record {target}: String variables cannot be recorded"))
                 })?;
-                probes.push((c, api, recorded[c].slot(api, v.value_reference)));
+                let probe = (c, api, recorded[c].slot(api, v.value_reference));
+                if probes.contains(&probe) {
+                    // two columns of one name: `--record plant.x,plant.x`
+                    return Err(SetupError::Value(format!(
+                        "--record: {} is named twice (as '{target}'); record each variable once",
+                        display(c, vname)
+                    )));
+                }
+                probes.push(probe);
                 columns.push(display(c, vname));
             }
         }
@@ -338,9 +354,20 @@ fn assignments(
         let what = format!("{ctx}: {}", p.name);
         assign(i, vname, ctx, &|md, v| overrides::ssp_value(md, v, &p.value, &what))?;
     }
+    let mut set_once = std::collections::HashMap::new();
     for o in &cfg.overrides {
         let ctx = format!("--set {}={}", o.target, o.value);
         let (i, vname) = resolve_target(names, single, &o.target, "--set")?;
+        // the same duplicate in an SSD binding is refused (ssp::bindings): so is it among the
+        // `--set`s of a command line (typed overrides compose programmatically: later wins)
+        if matches!(o.value, overrides::OverrideValue::Text(_))
+            && let Some(first) = set_once.insert((i, vname.to_string()), ctx.clone())
+        {
+            return Err(SetupError::Value(format!(
+                "{ctx}: {}.{vname} is already set by {first}; set each variable once",
+                names[i]
+            )));
+        }
         assign(i, vname, &ctx, &|md, v| o.value_for(md, v, &ctx))?;
     }
     Ok(out)
@@ -406,7 +433,11 @@ pub(crate) fn assemble(sys: &SystemFile, cfg: &RunConfig) -> Result<Assembled, S
     check_connectors(desc, &fmus)?;
     let new_ports = || (0..fmus.len()).map(|_| Ports::default()).collect::<Vec<_>>();
     let (mut outputs, mut inputs, mut recorded) = (new_ports(), new_ports(), new_ports());
-    let routes = wire(desc, &fmus, &names, &mut outputs, &mut inputs)?;
+    let (routes, edges) = wire(desc, &fmus, &names, &mut outputs, &mut inputs)?;
+    let algebraic_loop = loops::find(&fmus, &names, &edges);
+    if let (Some(cycle), AlgebraicLoops::Refuse) = (&algebraic_loop, cfg.algebraic_loops) {
+        return Err(loops::refusal(cycle).into());
+    }
     let fmu_default = if single { fmus[0].model_description().default_experiment.clone() } else { None };
     let timing = Timing::resolve(cfg, desc, fmu_default.as_ref())?;
     let (order, sequence) = sequence(cfg, desc, &names)?;
@@ -434,7 +465,7 @@ pub(crate) fn assemble(sys: &SystemFile, cfg: &RunConfig) -> Result<Assembled, S
     for c in comps.iter_mut() {
         c.inst.exit_initialization_mode()?;
     }
-    Ok(Assembled { comps, order, sequence, timing, probes, record_names })
+    Ok(Assembled { comps, order, sequence, timing, probes, record_names, algebraic_loop: algebraic_loop.is_some() })
 }
 
 #[cfg(test)]

@@ -33,7 +33,30 @@ pub struct RunConfig {
     pub output_interval: Option<f64>,
     /// Print the FMUs' log lines to stderr as they come.
     pub echo_fmu_log: bool,
+    /// The most communication steps the run may take (None: [`DEFAULT_MAX_STEPS`]).
+    pub max_steps: Option<u64>,
+    /// What to do with an algebraic loop (outputs that depend directly on inputs, connected in
+    /// a cycle): refuse it (default) or iterate it to a fixed point at every communication point.
+    pub algebraic_loops: AlgebraicLoops,
 }
+
+/// What the master does with an algebraic loop among the connections.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AlgebraicLoops {
+    /// Refuse the system before instantiating (the default).
+    #[default]
+    Refuse,
+    /// Solve the loop by fixed-point iteration of its outputs and inputs at every communication
+    /// point (at most [`crate::engine::MAX_LOOP_ITERATIONS`] passes, tolerance
+    /// [`crate::engine::LOOP_TOLERANCE`]; an error if it does not converge).
+    Iterate,
+}
+
+/// The most communication steps a run takes unless told otherwise (`--max-steps`): 10⁸, e.g.
+/// 1000 s at 10 µs. A step/stop pair that asks for more (`--step 1e-300`) is refused before any
+/// FMU is instantiated, as a too costly step is refused by the FMUs' work bounds: such a run
+/// would never end and would fill the disk with its CSV.
+pub const DEFAULT_MAX_STEPS: u64 = 100_000_000;
 
 /// The resolved time grid: `tₙ = start + n·step`, `n = 0 … n_steps`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,6 +91,13 @@ impl Timing {
         }
         let span = stop - start;
         let n_steps = (span / step).round();
+        let max_steps = cfg.max_steps.unwrap_or(DEFAULT_MAX_STEPS);
+        if n_steps > max_steps as f64 {
+            return Err(SetupError::Value(format!(
+                "stop time − start time ({span} s) in steps of {step} s is {n_steps:e} communication steps, more than \
+                 the limit of {max_steps} (pass a larger --step, or raise the limit with --max-steps)"
+            )));
+        }
         if (n_steps * step - span).abs() > 1e-9 * span.max(step) || n_steps < 1.0 {
             return Err(SetupError::Value(format!(
                 "stop time − start time ({span}) is not a whole number of steps of {step}"
@@ -125,5 +155,23 @@ mod tests {
         assert!(e.contains("must be after the start time"), "{e}");
         let e = resolve(RunConfig { step: Some(-1.0), ..Default::default() }).unwrap_err().to_string();
         assert!(e.contains("positive and finite"), "{e}");
+    }
+
+    /// `--stop-time 0.01 --step 1e-300` planned 1e298 steps and wrote 361 MB of CSV in 12 s
+    /// before it was killed: the grid is refused before any FMU runs.
+    #[test]
+    fn a_grid_beyond_the_step_limit_is_refused() {
+        let e = resolve(RunConfig { stop: Some(0.01), step: Some(1e-300), ..Default::default() }).unwrap_err();
+        let e = e.to_string();
+        assert!(
+            e.contains("communication steps, more than the limit of 100000000") && e.contains("--max-steps"),
+            "{e}"
+        );
+        let at = |n: u64, max: Option<u64>| {
+            resolve(RunConfig { stop: Some(n as f64 * 1e-3), max_steps: max, ..Default::default() })
+        };
+        assert_eq!(at(DEFAULT_MAX_STEPS / 1000, None).unwrap().n_steps, DEFAULT_MAX_STEPS / 1000);
+        assert!(at(2000, Some(1999)).is_err());
+        assert_eq!(at(2000, Some(2000)).unwrap().n_steps, 2000);
     }
 }

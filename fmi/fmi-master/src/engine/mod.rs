@@ -31,11 +31,13 @@
 
 pub(crate) mod assembly;
 pub mod config;
+pub mod loops;
 pub(crate) mod ports;
 
 pub use crate::observer::{NoObserver, Observer, Recorder};
 pub use crate::progress::Progress;
-pub use config::RunConfig;
+pub use config::{AlgebraicLoops, RunConfig};
+pub use loops::{LOOP_TOLERANCE, MAX_LOOP_ITERATIONS};
 
 use crate::error::{SetupError, SimError};
 use crate::progress::Tracker;
@@ -61,6 +63,8 @@ pub struct Simulation {
     timing: Timing,
     probes: Vec<Probe>,
     record_names: Vec<String>,
+    /// Solve an algebraic loop at every communication point ([`loops`]).
+    iterate_loop: bool,
 }
 
 impl Simulation {
@@ -74,6 +78,7 @@ impl Simulation {
             timing: a.timing,
             probes: a.probes,
             record_names: a.record_names,
+            iterate_loop: a.algebraic_loop,
         };
         // Consistent inputs at t0.
         for i in 0..sim.comps.len() {
@@ -81,6 +86,9 @@ impl Simulation {
         }
         for i in 0..sim.comps.len() {
             sim.comps.set_inputs(i)?;
+        }
+        if sim.iterate_loop {
+            sim.comps.solve_loop(sim.timing.start)?;
         }
         Ok(sim)
     }
@@ -192,6 +200,9 @@ impl Simulation {
         let mut next_sample = every;
         for n in 0..n_steps {
             let t = self.timing.time(n);
+            if self.iterate_loop && n > 0 {
+                self.comps.solve_loop(t)?;
+            }
             match self.order {
                 Order::GaussSeidel => {
                     for &i in &seq {

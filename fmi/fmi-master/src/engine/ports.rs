@@ -102,6 +102,11 @@ impl Ports {
         Ok(())
     }
 
+    /// The Real values (in slot order).
+    pub(crate) fn reals(&self) -> &[f64] {
+        &self.real
+    }
+
     /// The value in a slot, as f64.
     pub(crate) fn get(&self, api: Api, i: usize) -> f64 {
         match api {

@@ -20,6 +20,8 @@
 //!
 //! * [`start_values_are_the_defaults`]: the start values read back are the default parameters.
 //! * [`work_is`]: what the adapter says a step costs ([`Work`]) is what the model counts.
+//! * [`parameter_extremes_are_safe`], [`tunable_parameters_take_effect`]: the hostile audit's
+//!   per-parameter values, and tunable parameters honoured between steps ([`extremes`]).
 //!
 //! [`adapter_tests!`](crate::adapter_tests!) runs them all as the tests of one adapter. The
 //! helpers in [`instances`] (re-exported here: [`vr`], [`ready`], [`ready_with`],
@@ -33,8 +35,10 @@ use model_description::{Causality, ModelDescription, ScalarType, Value, Variabil
 use serde::Serialize;
 use std::collections::BTreeMap;
 
+pub mod extremes;
 pub mod instances;
 mod suite;
+pub use extremes::*;
 pub use instances::*;
 pub use suite::*;
 
@@ -105,6 +109,7 @@ pub fn description_matches_table<M: TableModel>() -> Result<(), String> {
             return Err(what("causality"));
         }
         let variability = match (c, ty) {
+            (Causality::Parameter, _) if a.tunable => Variability::Tunable,
             (Causality::Parameter, _) => Variability::Fixed,
             (_, ScalarType::Real) if !a.discrete => Variability::Continuous,
             _ => Variability::Discrete,

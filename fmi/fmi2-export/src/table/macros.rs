@@ -19,7 +19,9 @@
 ///     }
 /// }
 /// ```
-/// A row is `[discrete] VR "name" [ACCESS] "unit" [BOUNDS] "description";` where ACCESS is a
+/// A row is `[discrete|tunable] VR "name" [ACCESS] "unit" [BOUNDS] "description";` (`discrete`: a
+/// Real output that changes at sample instants only; `tunable`: a parameter the master may
+/// change between steps, which the model applies in [`Fmi2Model::retune`](crate::Fmi2Model::retune)) where ACCESS is a
 /// field path of the group's struct (`a.b`, `a.m[0][1]`), `enum PATH` for a [`model_kit::Choice`](crate::model_kit::Choice) field, or
 /// `get CLOSURE, set CLOSURE` for a computed variable; BOUNDS is empty or `min, max`; the unit is
 /// a name of [`model_description::units::UNITS`](crate::model_description::units::UNITS) or `""`.
@@ -83,6 +85,7 @@ macro_rules! __rows {
                 bounds: $crate::__bounds!($($b)*),
                 description: $desc,
                 discrete: $crate::__discrete!($($kw)?),
+                tunable: $crate::__tunable!($($kw)?),
             }; $($acc)+)
         ),* ]
     };
@@ -106,6 +109,23 @@ macro_rules! __discrete {
         false
     };
     (discrete) => {
+        true
+    };
+    (tunable) => {
+        false
+    };
+}
+
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __tunable {
+    () => {
+        false
+    };
+    (discrete) => {
+        false
+    };
+    (tunable) => {
         true
     };
 }

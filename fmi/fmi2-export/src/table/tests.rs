@@ -20,22 +20,22 @@ struct Inner {
 fn table() -> Table<S, S, S> {
     let vars = crate::variables! {
         inputs S {
-            4 "a" [a] "" [] "";
+            4 "a" [a] "1" [] "";
             0 "flag" [flag] "" [] "";
-            2 "twice_c" [get |s: &S| 2.0 * s.c, set |s: &mut S, x: f64| s.c = x / 2.0] "" [] "";
-            1 "b" [b] "" [] "";
-            3 "m01" [inner.m[0][1]] "" [] "";
+            2 "twice_c" [get |s: &S| 2.0 * s.c, set |s: &mut S, x: f64| s.c = x / 2.0] "1" [] "";
+            1 "b" [b] "1" [] "";
+            3 "m01" [inner.m[0][1]] "1" [] "";
             5 "n" [n] "" [] "";
         }
         outputs S {
-            14 "a_out" [a] "" [] "";
+            14 "a_out" [a] "1" [] "";
             10 "flag_out" [flag] "" [] "";
-            12 "twice_c_out" [get |s: &S| 2.0 * s.c, set |s: &mut S, x: f64| s.c = x / 2.0] "" [] "";
-            11 "b_out" [b] "" [] "";
-            13 "m10_out" [inner.m[1][0]] "" [] "";
+            12 "twice_c_out" [get |s: &S| 2.0 * s.c, set |s: &mut S, x: f64| s.c = x / 2.0] "1" [] "";
+            11 "b_out" [b] "1" [] "";
+            13 "m10_out" [inner.m[1][0]] "1" [] "";
         }
         parameters S {
-            20 "p" [a] "" [] "";
+            20 "p" [a] "1" [] "";
         }
     };
     Table::new(Header { model_name: "T", identifier: "T", description: "", default_experiment: (0.0, 1.0, 0.1) }, vars)
@@ -50,6 +50,23 @@ fn direct_path_takes_exactly_the_f64_and_bool_field_rows() {
     assert_eq!(direct, ["a", "flag", "b", "m01"]);
     assert_eq!(t.other_inputs, [2, 5]);
     assert_eq!(t.other_outputs, [2]);
+}
+
+/// A Real row without a unit makes no description: every Real variable says its unit ("1"
+/// when dimensionless; issue 31 counted 203 Real variables without one).
+#[test]
+fn a_real_variable_without_a_unit_is_refused() {
+    let vars = crate::variables! {
+        inputs S { 4 "a" [a] "1" [] ""; }
+        outputs S { 14 "a_out" [a] "" [] ""; }
+        parameters S { 0 "flag" [flag] "" [] ""; }
+    };
+    let t = Table::new(
+        Header { model_name: "T", identifier: "T", description: "", default_experiment: (0.0, 1.0, 0.1) },
+        vars,
+    );
+    let e = t.model_description(&S::default()).unwrap_err();
+    assert!(format!("{e:?}").contains("the Real variable a_out has no unit"), "{e:?}");
 }
 
 /// The generated functions move the rows' own fields with the rows' value references: the

@@ -62,6 +62,9 @@ pub fn work_is<M: Fmi2Model>(work: Work) -> Result<(), String> {
 ///   `params`), `parameter_coverage`, `start_values_are_the_defaults`;
 /// * `work_is` (`work`: [`Work`]);
 /// * `non_finite_inputs_are_refused` (NaN, ±Inf on every Real input, then a step of `step`);
+/// * `parameter_extremes_are_safe` (every parameter and input at NaN, ±Inf, ±1e308, 0, −1, min
+///   and max, then three steps of `step`: refused with a message or stepped, no call over 5 s, no
+///   non-finite output with OK) and `tunable_parameters_take_effect`;
 /// * `corrupted_states_never_panic_or_hang`: `tries` copies of the serialized state of
 ///   `stepped` with 3 bits flipped (xorshift from `seed`) and resealed, each refused or
 ///   restored into `fresh()` and stepped by `step` within 2 s; some must be refused.
@@ -129,6 +132,19 @@ macro_rules! adapter_tests {
             #[test]
             fn work_is() {
                 shared::work_is::<$M>($work).unwrap();
+            }
+
+            #[test]
+            fn parameter_extremes_are_safe() {
+                let (tried, refused, ran) = shared::parameter_extremes_are_safe::<$M>($h, 3).unwrap();
+                println!("{tried} extreme values: {refused} refused with a message, {ran} stepped");
+                assert!(ran > 0 && refused > 0, "{tried} tried, {refused} refused, {ran} stepped");
+            }
+
+            #[test]
+            fn tunable_parameters_take_effect() {
+                let n = shared::tunable_parameters_take_effect::<$M>($h).unwrap();
+                println!("{n} tunable parameters honoured between steps");
             }
 
             #[test]
