@@ -31,7 +31,8 @@ fn cdylib_name_model_identifier_and_binary_name_are_one_string() {
             .unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -p packaging`)", fmu.display()));
         let mut z = zip::ZipArchive::new(f).unwrap();
         let names: Vec<String> = z.file_names().map(String::from).collect();
-        let required = ["modelDescription.xml", &format!("binaries/linux64/{id}.so"), "documentation/index.html", "model.png"];
+        let required =
+            ["modelDescription.xml", &format!("binaries/linux64/{id}.so"), "documentation/index.html", "model.png"];
         for required in required {
             assert!(names.iter().any(|n| n == required), "{id}.fmu lacks {required}: {names:?}");
         }

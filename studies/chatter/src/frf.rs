@@ -2,12 +2,12 @@
 //! to modes, a machine file and a `ModalStructure` parameter set; format conversion; a synthetic
 //! tap test of a machine file (the `machine::frf` module).
 
-use anyhow::{Context, Result, bail, ensure};
+use anyhow::{Context, Result, ensure};
 use clap::{Args, Subcommand};
 use machine::Machine;
 use machine::frf::fit::{FitOptions, fit};
 use machine::frf::synth::{TapTest, tap_test};
-use machine::frf::{MeasuredFrf, csv, plots, uff};
+use machine::frf::{MeasuredFrf, csv, plots};
 use std::path::{Path, PathBuf};
 
 #[derive(Subcommand)]
@@ -83,7 +83,7 @@ pub fn frf(cmd: &FrfCmd) -> Result<()> {
         FrfCmd::Fit(a) => fit_cmd(a),
         FrfCmd::Convert(a) => {
             let m = MeasuredFrf::read(&a.files)?;
-            write_frf(&m, &a.out, a.binary)?;
+            machine::frf::write_new(&m, &a.out, a.binary)?;
             println!("wrote {} ({} FRFs, {} frequencies)", a.out.display(), m.h.len(), m.freq_hz.len());
             Ok(())
         }
@@ -91,27 +91,14 @@ pub fn frf(cmd: &FrfCmd) -> Result<()> {
             let m = crate::own_machine::load(&a.machine)?;
             let t = TapTest { range_hz: (0.0, a.max_hz), resolution_hz: a.resolution, noise: a.noise, seed: a.seed };
             let frf = tap_test(&m, &t).map_err(anyhow::Error::msg)?;
-            write_frf(&frf, &a.out, a.binary)?;
+            machine::frf::write_new(&frf, &a.out, a.binary)?;
             println!("wrote {}: {}", a.out.display(), frf.notes.join("; "));
             Ok(())
         }
     }
 }
 
-/// Write `m` as CSV or UFF 58 by the extension of `out`; an existing file is never overwritten.
-fn write_frf(m: &MeasuredFrf, out: &Path, binary: bool) -> Result<()> {
-    let bytes = match out.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("csv") => {
-            ensure!(!binary, "--binary: a CSV is text; write a .uff for UFF 58 binary");
-            csv::write(m, &m.source).into_bytes()
-        }
-        Some("uff") | Some("unv") => uff::write(m, &m.source, binary),
-        _ => bail!("--out {}: name it .csv or .uff", out.display()),
-    };
-    create_new(out, &bytes)
-}
-
-/// Write a new file (refused if it exists: no command overwrites a file).
+/// A new file (refused if it exists: no command overwrites a file).
 fn create_new(path: &Path, bytes: &[u8]) -> Result<()> {
     use std::io::Write;
     let mut f = std::fs::OpenOptions::new()
@@ -157,17 +144,27 @@ fn fit_cmd(a: &FitArgs) -> Result<()> {
     w("modes.csv", &f.modes_csv())?;
     w("stabilisation.csv", &f.stabilisation_csv())?;
     w("fitted.csv", &csv::write(&f.fitted(&frf, false), "the fitted modes (no residual terms)"))?;
-    let title = a.files.iter().map(|p| p.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned())).collect::<Vec<_>>().join(", ");
-    plots::overlay_png(&a.out.join("overlay.png"), &format!("Measured and fitted FRFs: {title}"), &frf, &f)?;
-    plots::stabilisation_png(&a.out.join("stabilisation.png"), &format!("Stabilisation diagram: {title}"), &frf, &f)?;
-    let files: Vec<String> = a
+    let title = a
         .files
         .iter()
-        .map(|p| p.canonicalize().map(|c| c.display().to_string()))
-        .collect::<Result<_, _>>()?;
+        .map(|p| p.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    plots::overlay_png(&a.out.join("overlay.png"), &format!("Measured and fitted FRFs: {title}"), &frf, &f)?;
+    plots::stabilisation_png(&a.out.join("stabilisation.png"), &format!("Stabilisation diagram: {title}"), &frf, &f)?;
+    let files: Vec<String> =
+        a.files.iter().map(|p| p.canonicalize().map(|c| c.display().to_string())).collect::<Result<_, _>>()?;
     let structure = f.structure_toml(&files);
     w("structure.toml", &structure)?;
-    let mut written = vec!["fit.md", "modes.csv", "stabilisation.csv", "stabilisation.png", "overlay.png", "fitted.csv", "structure.toml"];
+    let mut written = vec![
+        "fit.md",
+        "modes.csv",
+        "stabilisation.csv",
+        "stabilisation.png",
+        "overlay.png",
+        "fitted.csv",
+        "structure.toml",
+    ];
     let base = a.machine.as_ref().map(|p| crate::own_machine::load(p)).transpose()?;
     let at_actuator = base.as_ref().is_some_and(|m| m.actuator.is_some());
     match machine::fmus::structure_ssv(&f.modes, at_actuator, "fitted modes", &out_dir.join("modal_table.csv")) {
@@ -189,7 +186,10 @@ fn fit_cmd(a: &FitArgs) -> Result<()> {
         let new = toml::to_string(&table)?;
         let target = a.out.join("machine.toml");
         Machine::from_toml(&new, &target.display().to_string()).map_err(|e| anyhow::anyhow!("{e}"))?;
-        create_new(&target, format!("# {} with the modes fitted by `chatter frf fit`\n{new}", path.display()).as_bytes())?;
+        create_new(
+            &target,
+            format!("# {} with the modes fitted by `chatter frf fit`\n{new}", path.display()).as_bytes(),
+        )?;
         written.push("machine.toml");
     }
     println!("wrote {}: {}", a.out.display(), written.join(", "));

@@ -130,13 +130,17 @@ pub fn lobes(
         let measured = MeasuredLobes::compute(&m, &speeds)?;
         println!("Measured FRFs ({} speeds, {lo:.0}–{hi:.0} rpm):\n\n{}", speeds.len(), measured.report(&m));
         std::fs::write(out.join("measured_lobes.csv"), measured.csv())?;
-        let mut series = vec![Series { name: "zero-order on the measured FRFs".into(), points: measured.measured.clone() }];
+        let mut series =
+            vec![Series { name: "zero-order on the measured FRFs".into(), points: measured.measured.clone() }];
         if let Some(modal) = &measured.modal {
             series.push(Series { name: "zero-order on the modes".into(), points: modal.clone() });
         }
         plot_png(
             &out.join("measured_lobes.png"),
-            &format!("Stability lobes from measured FRFs: {} ({} teeth, a_e/D = {})", m.name, m.tool.teeth, m.operation.immersion),
+            &format!(
+                "Stability lobes from measured FRFs: {} ({} teeth, a_e/D = {})",
+                m.name, m.tool.teeth, m.operation.immersion
+            ),
             &series,
             1200,
             800,

@@ -209,7 +209,10 @@ pub fn structure_ssv(
         let text = fmu_modal_structure::modal_table(&structure);
         let only_settings = ModalParams { n_modes: 1, modes: ModalParams::default().modes, ..structure };
         (
-            fmu_modal_structure::StructureFmuParams { structure: only_settings, modal_table: table.display().to_string() },
+            fmu_modal_structure::StructureFmuParams {
+                structure: only_settings,
+                modal_table: table.display().to_string(),
+            },
             Some(text),
         )
     };

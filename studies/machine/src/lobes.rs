@@ -336,6 +336,10 @@ pub struct LobeDifference {
     pub rms: f64,
     /// The smallest critical depth of the data and of the modes \[m\].
     pub minima: (f64, f64),
+    /// Speeds where the modes claim a cut more than 3 % deeper than the data, of `compared`.
+    pub above: usize,
+    /// Speeds where both are finite.
+    pub compared: usize,
 }
 
 impl MeasuredLobes {
@@ -380,6 +384,8 @@ impl MeasuredLobes {
             signed: worst.1,
             rms: (r.iter().map(|x| x.1 * x.1).sum::<f64>() / r.len() as f64).sqrt(),
             minima: (min(&self.measured), min(modal)),
+            above: r.iter().filter(|x| x.1 > 0.03).count(),
+            compared: r.len(),
         })
     }
 
@@ -426,10 +432,13 @@ impl MeasuredLobes {
                 d.at_rpm,
                 if d.signed > 0.0 { "above" } else { "below" },
                 d.rms * 100.0,
-                if d.signed > 0.03 {
-                    " The modes claim a deeper stable cut than the measurement there: check the fit (band, orders, residual terms) before trusting them."
+                if d.above > 0 {
+                    format!(
+                        " At {} of {} speeds the modes claim a cut more than 3 % deeper than the measured FRFs. The data's own lobes scatter by about the FRFs' noise (5 % complex noise: up to 6 %, 2 % RMS, against the true modes); differences that cluster on one lobe rather than scatter point at the fit (band, orders, residual terms): use the lower of the two there.",
+                        d.above, d.compared
+                    )
                 } else {
-                    ""
+                    String::new()
                 }
             );
         } else {

@@ -53,7 +53,10 @@ pub fn summary(m: &Machine) -> String {
         }
     }
     if m.modes.is_empty() {
-        let _ = write!(s, "\n\nNo modes: zero-order lobes from the measured FRFs only (fit modes with `chatter frf fit` for the rest).");
+        let _ = write!(
+            s,
+            "\n\nNo modes: zero-order lobes from the measured FRFs only (fit modes with `chatter frf fit` for the rest)."
+        );
         return s;
     }
     let _ = writeln!(s, "\n\n| mode | f (Hz) | ζ | k (N/m) | m (kg) | shape (x, y) |\n|---|---|---|---|---|---|");

@@ -45,7 +45,7 @@ fn sine_response(table: &std::path::Path, step: f64, f: f64, axis: usize) -> Com
     let o = |n: &str, v: Value| Override::typed(format!("{c}.{n}"), v);
     let settle = 0.25;
     let periods = (0.05 * f).ceil();
-    let stop = settle + periods / f;
+    let stop = ((settle + periods / f) / step).ceil() * step;
     let out = ["tool_x", "tool_y"][axis];
     let cfg = RunConfig {
         start: Some(0.0),
@@ -60,13 +60,13 @@ fn sine_response(table: &std::path::Path, step: f64, f: f64, axis: usize) -> Com
             o("disturbance.sine_frequency", Value::Real(f)),
             o("disturbance.direction_angle", Value::Real(axis as f64 * PI / 2.0)),
         ],
-        record: Some(vec![format!("{c}.{out}")]),
+        record: Some(vec![out.to_string()]),
         ..RunConfig::default()
     };
     let mut sim = Simulation::new(&sys, &cfg).unwrap();
     let mut rec = Recorder::default();
     sim.run(&mut rec, Progress::Off).unwrap();
-    let x = rec.column(&format!("{c}.{out}")).unwrap();
+    let x = rec.column(out).unwrap_or_else(|| panic!("{:?}", rec.names));
     // x = a sin(ωt) + b cos(ωt) over the last whole periods: H = a + i b
     let w = 2.0 * PI * f;
     let (mut ss, mut cc, mut sc, mut xs, mut xc) = (0.0, 0.0, 0.0, 0.0, 0.0);

@@ -24,6 +24,9 @@ impl Default for FitOptions {
     }
 }
 
+/// Without a cross FRF, a pole's share of `φ²` in a direction below this is leakage, not a mode.
+pub const UNCOUPLED_SHARE: f64 = 0.05;
+
 /// A mode of the fit is called complex (and said so) beyond this complexity.
 pub const COMPLEX_MODE: f64 = 0.2;
 
@@ -51,6 +54,8 @@ pub struct FrfFit {
     pub id: Identified,
     /// The modes as the machine file holds them (stiffness along the unit shape).
     pub modes: Vec<Mode>,
+    /// The complexity of the identified mode each of [`FrfFit::modes`] comes from.
+    pub complexity: Vec<f64>,
     /// What the user should know about the fit.
     pub notes: Vec<String>,
 }
@@ -64,19 +69,43 @@ pub fn fit(frf: &MeasuredFrf, o: &FitOptions) -> Result<FrfFit, FitError> {
     let (data, pairs) = frf.for_fit();
     let id = modal_fit::identify(&data, band, (4..=o.max_order).step_by(2), &pairs)?;
     let pairs: Vec<Pair> = pairs.iter().map(|&(p, q)| Pair(p, q)).collect();
-    let modes: Vec<Mode> = id
-        .modes
-        .iter()
-        .enumerate()
-        .map(|(i, m)| Mode {
-            label: format!("fit[{i}]"),
+    let mut notes = frf.notes.clone();
+    let (mut modes, mut complexity) = (Vec::new(), Vec::new());
+    for (i, m) in id.modes.iter().enumerate() {
+        let mode = |label: String, shape: [f64; 2], stiffness: f64| Mode {
+            label,
             frequency_hz: m.frequency_hz,
             damping: m.damping,
-            stiffness: m.stiffness(),
-            shape: m.direction(),
-        })
-        .collect();
-    let mut notes = frf.notes.clone();
+            stiffness,
+            shape,
+        };
+        if frf.has_cross() {
+            modes.push(mode(format!("fit[{i}]"), m.direction(), m.stiffness()));
+            complexity.push(m.complexity);
+            continue;
+        }
+        // No cross FRF: the data say G = diag(G_xx, G_yy) (xy = yx = 0, said in the notes). A
+        // pole seen in both driving points is then two uncoupled modes, one per direction, so
+        // that the modal model has no cross terms either; a component below UNCOUPLED_SHARE of
+        // the mode's φ² is the other FRF's leakage (noise, a neighbour) and left out.
+        let w2 = (2.0 * PI * m.frequency_hz).powi(2);
+        let phi2 = [m.shape[0] * m.shape[0], m.shape[1] * m.shape[1]];
+        let total = phi2[0] + phi2[1];
+        let kept: Vec<usize> = (0..2).filter(|&d| phi2[d] >= UNCOUPLED_SHARE * total).collect();
+        for &d in &kept {
+            let mut shape = [0.0; 2];
+            shape[d] = 1.0;
+            modes.push(mode(format!("fit[{i}].{}", ["x", "y"][d]), shape, w2 / phi2[d]));
+            complexity.push(m.complexity);
+        }
+        if kept.len() == 2 {
+            notes.push(format!(
+                "mode {} ({:.1} Hz) shows in xx and in yy, and no cross FRF was measured: written as two uncoupled modes (x, y) at that frequency",
+                i + 1,
+                m.frequency_hz
+            ));
+        }
+    }
     for (i, m) in id.modes.iter().enumerate() {
         if m.complexity > COMPLEX_MODE {
             notes.push(format!(
@@ -87,16 +116,11 @@ pub fn fit(frf: &MeasuredFrf, o: &FitOptions) -> Result<FrfFit, FitError> {
             ));
         }
     }
-    if !frf.has_cross() && modes.iter().any(|m| m.shape[0].abs() > 0.05 && m.shape[1].abs() > 0.05) {
-        notes.push(
-            "a mode shows in both xx and yy but no cross FRF was measured: its coupling's sign is taken as +".into(),
-        );
-    }
     let dropped = id.residues.poles.len() - id.modes.len();
     if dropped > 0 {
         notes.push(format!("{dropped} stable pole(s) with no positive driving-point residue left out (computational)"));
     }
-    Ok(FrfFit { band_hz: band, pairs, id, modes, notes })
+    Ok(FrfFit { band_hz: band, pairs, id, modes, complexity, notes })
 }
 
 impl FrfFit {
@@ -145,7 +169,7 @@ impl FrfFit {
             "| mode | frequency (Hz) | damping ratio | stiffness (N/m) | mass (kg) | direction (x, y) | complexity |"
         );
         let _ = writeln!(s, "|---|---|---|---|---|---|---|");
-        for (i, (m, raw)) in self.modes.iter().zip(&self.id.modes).enumerate() {
+        for (i, (m, c)) in self.modes.iter().zip(&self.complexity).enumerate() {
             let _ = writeln!(
                 s,
                 "| {} | {:.2} | {:.4} | {:.4e} | {:.4} | ({:.3}, {:.3}) | {:.3} |",
@@ -156,7 +180,7 @@ impl FrfFit {
                 m.mass(),
                 m.shape[0],
                 m.shape[1],
-                raw.complexity
+                c
             );
         }
         let _ = writeln!(s, "\nResidual terms (not in the modal model; they stand for modes outside the band):\n");
@@ -204,7 +228,7 @@ impl FrfFit {
     /// The modes as CSV.
     pub fn modes_csv(&self) -> String {
         let mut s = String::from("mode,frequency_hz,damping,stiffness_n_per_m,mass_kg,shape_x,shape_y,complexity\n");
-        for (i, (m, raw)) in self.modes.iter().zip(&self.id.modes).enumerate() {
+        for (i, (m, c)) in self.modes.iter().zip(&self.complexity).enumerate() {
             let _ = writeln!(
                 s,
                 "{},{},{},{},{},{},{},{}",
@@ -215,7 +239,7 @@ impl FrfFit {
                 m.mass(),
                 m.shape[0],
                 m.shape[1],
-                raw.complexity
+                c
             );
         }
         s

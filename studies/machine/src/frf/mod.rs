@@ -290,6 +290,23 @@ impl MeasuredFrf {
     }
 }
 
+/// Write `frf` to a new file: CSV (`.csv`) or UFF 58 (`.uff`/`.unv`, ASCII or `binary`); an
+/// existing file is never overwritten.
+pub fn write_new(frf: &MeasuredFrf, path: &Path, binary: bool) -> Result<(), FrfError> {
+    use std::io::Write;
+    let name = path.display().to_string();
+    let bytes = match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        Some("csv") if !binary => csv::write(frf, &frf.source).into_bytes(),
+        Some("csv") => return Err(FrfError::at(&name, None, "a CSV is text: write a .uff for UFF 58 binary")),
+        Some("uff") | Some("unv") => uff::write(frf, &frf.source, binary),
+        _ => return Err(FrfError::at(&name, None, "name the file .csv or .uff")),
+    };
+    let mut f = std::fs::OpenOptions::new().write(true).create_new(true).open(path).map_err(|e| {
+        FrfError::at(&name, None, format!("not written ({e}): nothing is overwritten, choose a new name"))
+    })?;
+    f.write_all(&bytes).map_err(|e| FrfError::at(&name, None, format!("writing: {e}")))
+}
+
 /// Check one file's grid and values as it is read: increasing frequencies, finite values
 /// (`line_of(k)` gives the file line of row `k` for the message).
 pub(crate) fn check_rows(
