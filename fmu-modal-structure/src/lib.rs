@@ -1,8 +1,8 @@
 //! # ModalStructure FMU adapter
 //!
 //! Translates between the structure core ([`machine_structure::modal`]) and the FMI variables
-//! of `ModalStructure.fmu`, declared once in [`TABLE`]. Up to four modes from parameters, or a
-//! modal table from a CSV file named by the string parameter `modal_table` (absolute, or
+//! of `ModalStructure.fmu`, declared once in [`TABLE`]. Up to four modes from parameters, or up
+//! to sixteen ([`MAX_MODES`]) from a modal table from a CSV file named by the string parameter `modal_table` (absolute, or
 //! relative to the FMU's `resources/` directory): one line per mode,
 //! `frequency [Hz], damping_ratio, modal_mass [kg], tool_x, tool_y, actuator_x, actuator_y`
 //! (`#` starts a comment; a header line of words is skipped). The file's modes replace the
@@ -34,7 +34,7 @@ pub static TABLE: LazyLock<Table<StructureFmuParams, StructureInputs, StructureO
         Header {
             model_name: "ModalStructure",
             identifier: "ModalStructure",
-            description: "Modal machine structure: up to 4 modes with mode shapes at a tool point and an actuator point, force inputs, displacement/velocity outputs",
+            description: "Modal machine structure: up to 4 modes as parameters (16 from a modal table) with mode shapes at a tool point and an actuator point, force inputs, displacement/velocity outputs",
             default_experiment: (0.0, 1.0, 1e-5),
         },
         fmi2_export::variables! {
@@ -109,6 +109,21 @@ fmi2_export::adapter! {
     table: TABLE as Table<StructureFmuParams, StructureInputs, StructureOutputs>,
     parameters: |m| &m.params,
     input_errors: StructureError::Input,
+}
+
+/// The modes declared as parameters (`mode1.*` … `mode4.*`); more go through a modal table.
+pub const PARAMETER_MODES: usize = 4;
+
+/// `p`'s modes as a modal table (module docs; full precision, read back bit for bit).
+pub fn modal_table(p: &ModalParams) -> String {
+    let mut s = String::from("frequency,damping_ratio,modal_mass,tool_x,tool_y,actuator_x,actuator_y\n");
+    for m in p.mode_list() {
+        s.push_str(&format!(
+            "{:e},{:e},{:e},{:e},{:e},{:e},{:e}\n",
+            m.frequency, m.damping_ratio, m.modal_mass, m.tool[0], m.tool[1], m.actuator[0], m.actuator[1]
+        ));
+    }
+    s
 }
 
 /// Parse a modal table (module docs) into `p`'s modes and `n_modes`.

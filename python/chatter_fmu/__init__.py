@@ -18,9 +18,9 @@ from typing import Dict, Iterable, Optional, Sequence, Tuple
 
 import numpy as np
 
-from ._native import ChatterError, Machine as _Machine, System as _System, case_ids, collect, plan_main_job as _plan_main_job, run_cases
+from ._native import ChatterError, Machine as _Machine, System as _System, case_ids, collect, fit_frf as _fit_frf, plan_main_job as _plan_main_job, run_cases
 
-__all__ = ["ChatterError", "Machine", "System", "plan_main_job", "run_cases", "collect", "case_ids"]
+__all__ = ["ChatterError", "Machine", "System", "fit_frf", "plan_main_job", "run_cases", "collect", "case_ids"]
 
 
 class System:
@@ -62,6 +62,19 @@ def plan_main_job(out: os.PathLike | str, fmu_dir: os.PathLike | str, seeds: Ite
     The same study as ``chatter plan main-job``."""
     return _plan_main_job(os.fspath(out), os.fspath(fmu_dir), list(seeds), [tuple(c) for c in cases], stop_time,
                           step, csv_interval, list(overrides), None if system is None else os.fspath(system))
+
+
+def fit_frf(files: Sequence[os.PathLike | str], band: Optional[Tuple[float, float]] = None,
+            max_order: int = 40) -> Dict[str, object]:
+    """Fit modes to measured FRF files (CSV or UFF 58; xx and yy required), as ``chatter frf
+    fit``: ``modes`` (a structured array: frequency_hz, damping, stiffness_n_per_m, mass_kg,
+    shape_x, shape_y, complexity), ``stabilisation`` (order, frequency_hz, damping, stability),
+    the ``report``, the machine file's ``structure_toml`` and the ``band`` fitted (Hz)."""
+    import io
+    modes, stab, report, structure, fitted_band = _fit_frf([os.fspath(f) for f in files], band, max_order)
+    return {"modes": np.genfromtxt(io.StringIO(modes), delimiter=",", names=True, ndmin=1),
+            "stabilisation": np.genfromtxt(io.StringIO(stab), delimiter=",", names=True, dtype=None, encoding="utf-8"),
+            "report": report, "structure_toml": structure, "band": fitted_band}
 
 
 def _f64(b: bytes) -> np.ndarray:
@@ -143,6 +156,21 @@ class Machine:
         res = self._native.tune(list(structures), runs, particles, iterations, seed)
         return {s: {"gains": np.array(g), "b_min": b, "rpm": r, "fresh_passed": p, "ssv": ssv}
                 for (s, g, b, r, p, ssv) in res}
+
+    def measured_lobes(self, points: int = 200, rpm: Optional[Tuple[float, float]] = None) -> Dict[str, object]:
+        """Zero-order lobes on the file's measured FRFs (``[structure] frf``, no fit) and on its
+        modes over the same band: ``rpm``, ``measured``, ``modal`` (m; empty without modes),
+        and the ``report`` with their difference."""
+        lo, hi = (None, None) if rpm is None else rpm
+        s, data, modal, report = self._native.measured_lobes(points, lo, hi)
+        return {"rpm": _f64(s), "measured": _f64(data), "modal": _f64(modal), "report": report}
+
+    def tap_test(self, path: os.PathLike | str, noise: float = 0.05, seed: int = 1, resolution: float = 1.0,
+                 max_hz: float = 5000.0, binary: bool = False) -> None:
+        """Write a synthetic tap test of this machine's modes (``.csv`` or ``.uff``; refused if
+        the file exists): FRFs every ``resolution`` Hz up to ``max_hz`` with relative complex
+        ``noise`` (seeded), as ``chatter frf synth``."""
+        self._native.tap_test(os.fspath(path), noise, seed, resolution, max_hz, binary)
 
     def write_ssp(self, path: os.PathLike | str, rpm: float, depth_mm: float, stop_time: float = 1.0) -> None:
         """Write the machine's system as an SSP (refused if the file exists)."""

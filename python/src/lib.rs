@@ -134,6 +134,29 @@ fn plan_main_job(
 }
 
 /// The case IDs of the study in `dir`, in manifest order.
+/// Fit modes to measured FRF files: (modes CSV, stabilisation CSV, the report, the machine
+/// file's `[structure]` table, the band \[Hz\]).
+#[pyfunction]
+#[pyo3(signature = (files, band=None, max_order=40))]
+fn fit_frf(
+    py: Python<'_>,
+    files: Vec<PathBuf>,
+    band: Option<(f64, f64)>,
+    max_order: usize,
+) -> PyResult<(String, String, String, String, (f64, f64))> {
+    py.detach(|| {
+        let frf = machine::frf::MeasuredFrf::read(&files).map_err(|e| e.to_string())?;
+        let o = machine::frf::fit::FitOptions { band_hz: band, max_order };
+        let f = machine::frf::fit::fit(&frf, &o).map_err(|e| format!("{}: {e}", frf.source))?;
+        let names: Vec<String> = files
+            .iter()
+            .map(|p| p.canonicalize().map(|c| c.display().to_string()).map_err(|e| format!("{}: {e}", p.display())))
+            .collect::<Result<_, _>>()?;
+        Ok::<_, String>((f.modes_csv(), f.stabilisation_csv(), f.report(&frf), f.structure_toml(&names), f.band_hz))
+    })
+    .map_err(ChatterError::new_err)
+}
+
 #[pyfunction]
 fn case_ids(dir: PathBuf) -> PyResult<Vec<String>> {
     Ok(cases::manifest::<MainJob>(&dir).map_err(err)?.cases.into_iter().map(|c| c.id).collect())
@@ -304,6 +327,49 @@ impl Machine {
         ))
     }
 
+    /// Zero-order lobes on the file's measured FRFs and on its modes (same band) at `points`
+    /// speeds: speeds, data depths, modes' depths (empty without modes) \[m\] as bytes, the report.
+    #[pyo3(signature = (points=200, rpm_min=None, rpm_max=None))]
+    #[allow(clippy::type_complexity)]
+    fn measured_lobes<'py>(
+        &self,
+        py: Python<'py>,
+        points: usize,
+        rpm_min: Option<f64>,
+        rpm_max: Option<f64>,
+    ) -> PyResult<(Bound<'py, PyBytes>, Bound<'py, PyBytes>, Bound<'py, PyBytes>, String)> {
+        let (lo, hi) = self.m.operation.speed_range_rpm;
+        let speeds = machine::workflow::speeds(rpm_min.unwrap_or(lo), rpm_max.unwrap_or(hi), points.max(2));
+        let m = &self.m;
+        let l = py
+            .detach(|| machine::lobes::MeasuredLobes::compute(m, &speeds).map_err(|e| e.to_string()))
+            .map_err(ChatterError::new_err)?;
+        Ok((
+            f64_bytes(py, speeds.iter().copied()),
+            f64_bytes(py, l.measured.iter().map(|p| p.depth)),
+            f64_bytes(py, l.modal.iter().flatten().map(|p| p.depth)),
+            l.report(m),
+        ))
+    }
+
+    /// A synthetic tap test of the machine's modes written to `path` (.csv or .uff; refused if
+    /// it exists): `resolution` Hz over 0–`max_hz`, relative complex `noise`, `seed`.
+    #[pyo3(signature = (path, noise=0.05, seed=1, resolution=1.0, max_hz=5000.0, binary=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn tap_test(
+        &self,
+        path: PathBuf,
+        noise: f64,
+        seed: u64,
+        resolution: f64,
+        max_hz: f64,
+        binary: bool,
+    ) -> PyResult<()> {
+        let t = machine::frf::synth::TapTest { range_hz: (0.0, max_hz), resolution_hz: resolution, noise, seed };
+        let frf = machine::frf::synth::tap_test(&self.m, &t).map_err(ChatterError::new_err)?;
+        machine::frf::write_new(&frf, &path, binary).map_err(err)
+    }
+
     /// The time-periodic boundary at `rpm` (converged, or by the semi-discretisation of order
     /// `sd_m`) checked through the FMUs: (boundary \[m\], kind, growth ratio at 0.97, growth
     /// ratio at 1.03); an error if stable up to 100 mm.
@@ -404,6 +470,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Machine>()?;
     m.add_function(wrap_pyfunction!(plan_main_job, m)?)?;
     m.add_function(wrap_pyfunction!(case_ids, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_frf, m)?)?;
     m.add_function(wrap_pyfunction!(run_cases, m)?)?;
     m.add_function(wrap_pyfunction!(collect, m)?)?;
     Ok(())

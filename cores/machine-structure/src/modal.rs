@@ -37,8 +37,8 @@ use crate::noise::BandLimitedNoise;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// The most modes.
-pub const MAX_MODES: usize = 4;
+/// The most modes (the FMU declares four as parameters; a modal table holds up to this many).
+pub const MAX_MODES: usize = 16;
 
 /// Why the structure refused to start or to step.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -144,12 +144,13 @@ impl Default for ModalParams {
         let (m3, k3) = from_peak(2499.8, 0.00954, 0.00708e-6);
         ModalParams {
             n_modes: 1,
-            modes: [
-                StructureMode::from_mass_stiffness(30.0, 2.40e7, 0.0088, x, x),
-                StructureMode::from_mass_stiffness(m2, k2, 0.00936, x, x),
-                StructureMode::from_mass_stiffness(m3, k3, 0.00954, x, x),
-                StructureMode::from_mass_stiffness(30.0, 2.40e7, 0.0088, [0.0, 1.0], [0.0, 1.0]),
-            ],
+            // the four parameter modes' defaults; modes 5.. (modal table only) start as mode 1
+            modes: std::array::from_fn(|i| match i {
+                1 => StructureMode::from_mass_stiffness(m2, k2, 0.00936, x, x),
+                2 => StructureMode::from_mass_stiffness(m3, k3, 0.00954, x, x),
+                3 => StructureMode::from_mass_stiffness(30.0, 2.40e7, 0.0088, [0.0, 1.0], [0.0, 1.0]),
+                _ => StructureMode::from_mass_stiffness(30.0, 2.40e7, 0.0088, x, x),
+            }),
             disturbance: Disturbance {
                 noise: true,
                 noise_rms: 50.0,

@@ -23,6 +23,7 @@ mod check;
 mod common;
 mod decomposed;
 mod dsmc;
+mod frf;
 mod froh;
 mod lobes;
 mod main_job;
@@ -93,6 +94,9 @@ enum Cmd {
     /// Your own machine from a machine file: check it, write its SSP (lobes: `chatter lobes --machine`, tuning: `chatter tune --machine`).
     #[command(subcommand)]
     Machine(own_machine::MachineCmd),
+    /// Measured FRFs (tap-test CSV or UFF 58): fit modes (stabilisation diagram, machine file, ModalStructure SSV), convert, synthesise.
+    #[command(subcommand)]
+    Frf(frf::FrfCmd),
     /// Plan a study as independent cases into a folder (manifest.json), to run anywhere.
     #[command(subcommand)]
     Plan(cases::PlanCmd),
@@ -132,6 +136,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Check(a) => check::check(a),
         Cmd::Validate(a) => validate::validate(a),
         Cmd::Machine(c) => own_machine::machine(c),
+        Cmd::Frf(c) => frf::frf(c),
         Cmd::Plan(c) => cases::plan(c),
         Cmd::Run(a) => cases::run(a),
         Cmd::Collect(a) => cases::collect(a),

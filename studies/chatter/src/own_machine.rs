@@ -8,7 +8,7 @@ use delay_stability::zero_order::speed_grid;
 use indicatif::{ProgressBar, ProgressStyle};
 use machine::Machine;
 use machine::closed::{ClosedPoint, Limit, closed_loop_lobes};
-use machine::lobes::{MachineLobes, Method, discretisation};
+use machine::lobes::{MachineLobes, MeasuredLobes, Method, discretisation};
 use machine::tune::{MachinePlant, TuneOptions, controller_ssv, open_loop_minimum};
 use machine::workflow::{controller_for, summary, validate};
 use seed000::tuning::SaturationCheck;
@@ -126,12 +126,36 @@ pub fn lobes(
     ensure!(lo > 0.0 && hi > lo && points >= 2, "the speed range [{lo}, {hi}] rpm with {points} points is empty");
     let speeds = speed_grid(lo, hi, points);
     println!("{}", summary(&m));
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    if m.frf.is_some() {
+        let measured = MeasuredLobes::compute(&m, &speeds)?;
+        println!("Measured FRFs ({} speeds, {lo:.0}–{hi:.0} rpm):\n\n{}", speeds.len(), measured.report(&m));
+        std::fs::write(out.join("measured_lobes.csv"), measured.csv())?;
+        let mut series =
+            vec![Series { name: "zero-order on the measured FRFs".into(), points: measured.measured.clone() }];
+        if let Some(modal) = &measured.modal {
+            series.push(Series { name: "zero-order on the modes".into(), points: modal.clone() });
+        }
+        plot_png(
+            &out.join("measured_lobes.png"),
+            &format!(
+                "Stability lobes from measured FRFs: {} ({} teeth, a_e/D = {})",
+                m.name, m.tool.teeth, m.operation.immersion
+            ),
+            &series,
+            1200,
+            800,
+        )?;
+        println!("wrote {}, {}", out.join("measured_lobes.csv").display(), out.join("measured_lobes.png").display());
+        if m.modes.is_empty() {
+            return Ok(());
+        }
+    }
     let method = discretisation(o.sd_m);
     let pb = progress(speeds.len(), "time-periodic");
     let open = MachineLobes::compute(&m, &speeds, method, &|d, _| pb.set_position(d as u64))?;
     pb.finish_and_clear();
     println!("Open loop ({} speeds, {lo:.0}–{hi:.0} rpm):\n\n{}", speeds.len(), open.report(&m));
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     std::fs::write(out.join("lobes.csv"), open.csv())?;
     let mut series = vec![
         Series { name: "zero-order".into(), points: open.zero_order.clone() },

@@ -12,7 +12,7 @@
 //! Enumeration parameters are written as `ssv:Integer` values (libcosim refuses
 //! `ssv:Enumeration`; our master and the FMI standard take the integer).
 
-use crate::machine::{Axis, Law, Machine, Milling};
+use crate::machine::{Axis, Law, Machine, Milling, Mode};
 use crate::models::ModelError;
 use chatter_control::{ControllerParams, Structure as CtrlStructure};
 use fmi_master::{Override, Progress, RunConfig, SimError, Simulation, SystemFile};
@@ -85,6 +85,12 @@ impl Machine {
         Ok(Some(r.params))
     }
 
+    /// `ModalStructure` parameters of the machine's modes ([`modal_params`]).
+    pub fn structure_params(&self, step: f64) -> Result<ModalParams, ModelError> {
+        self.require_modes("ModalStructure.fmu")?;
+        modal_params(&self.modes, self.actuator.is_some(), step)
+    }
+
     /// The FMUs' parameter sets at `rpm` and axial depth `depth` \[m\] (the controller: the
     /// file's, or `controller` if given).
     pub fn fmu_parameters(
@@ -93,10 +99,11 @@ impl Machine {
         depth: f64,
         controller: Option<&ControllerParams>,
     ) -> Result<MachineFmus, ModelError> {
-        if self.modes.len() > MAX_MODES {
+        if self.modes.len() > fmu_modal_structure::PARAMETER_MODES {
             return Err(ModelError::Unsupported(format!(
-                "structure: {} modes, ModalStructure.fmu takes at most {MAX_MODES}: the time-domain check cannot represent this machine",
-                self.modes.len()
+                "structure: {} modes; the machine's SSP and time-domain check bind ModalStructure's {} mode parameters (more modes go through a modal table: `chatter frf fit` writes one with its structure.ssv)",
+                self.modes.len(),
+                fmu_modal_structure::PARAMETER_MODES
             )));
         }
         let step = self.fmu_step(rpm);
@@ -133,21 +140,7 @@ impl Machine {
             feed_per_tooth: self.operation.feed_per_tooth,
             ..ProcessInputs::default()
         };
-        let mut structure = ModalParams { n_modes: self.modes.len() as u32, ..ModalParams::default() };
-        let at_actuator = self.actuator.is_some();
-        for (slot, m) in structure.modes.iter_mut().zip(&self.modes) {
-            *slot = StructureMode {
-                frequency: m.frequency_hz,
-                damping_ratio: m.damping,
-                modal_mass: m.mass(),
-                tool: m.shape,
-                actuator: if at_actuator { m.shape } else { [0.0, 0.0] },
-            };
-        }
-        let d = &mut structure.disturbance;
-        (d.noise, d.drift, d.sine_amplitude) = (false, false, 0.0);
-        structure.internal_step = step;
-        structure.validate().map_err(ModelError::Unsupported)?;
+        let structure = self.structure_params(step)?;
         let control =
             match (&self.actuator, controller.cloned().map(Some).map_or_else(|| self.controller_params(), Ok)?) {
                 (Some(a), Some(c)) => {
@@ -167,6 +160,68 @@ impl Machine {
             };
         Ok(MachineFmus { process, process_inputs, structure, control, step })
     }
+}
+
+/// `ModalStructure` parameters of `modes` (internal step `step` \[s\]; noise, drift and
+/// sinusoid off; the actuator point is the tool point if `at_actuator`).
+pub fn modal_params(modes: &[Mode], at_actuator: bool, step: f64) -> Result<ModalParams, ModelError> {
+    if modes.is_empty() || modes.len() > MAX_MODES {
+        return Err(ModelError::Unsupported(format!(
+            "structure: {} modes, ModalStructure.fmu takes 1 to {MAX_MODES}",
+            modes.len()
+        )));
+    }
+    let mut structure = ModalParams { n_modes: modes.len() as u32, ..ModalParams::default() };
+    for (slot, m) in structure.modes.iter_mut().zip(modes) {
+        *slot = StructureMode {
+            frequency: m.frequency_hz,
+            damping_ratio: m.damping,
+            modal_mass: m.mass(),
+            tool: m.shape,
+            actuator: if at_actuator { m.shape } else { [0.0, 0.0] },
+        };
+    }
+    let d = &mut structure.disturbance;
+    (d.noise, d.drift, d.sine_amplitude) = (false, false, 0.0);
+    structure.internal_step = step;
+    structure.validate().map_err(ModelError::Unsupported)?;
+    Ok(structure)
+}
+
+/// `modes` as a `ModalStructure` parameter set (SSV: the parameters that differ from the
+/// FMU's start values), internal step 10 µs or finer (40 steps per period of the highest mode).
+/// Up to four modes are parameters; with more, the SSV names the modal table `table` (an
+/// absolute path) and the table's text is returned beside it, for the caller to write there.
+pub fn structure_ssv(
+    modes: &[Mode],
+    at_actuator: bool,
+    name: &str,
+    table: &Path,
+) -> Result<(String, Option<String>), ModelError> {
+    use fmi2_export::Fmi2Model;
+    let f = modes.iter().map(|m| m.frequency_hz).fold(0.0, f64::max);
+    let h = 1.0 / (40.0 * f);
+    let step = if h >= 1e-5 { 1e-5 } else { 1e-5 / (1e-5 / h).ceil() };
+    let structure = modal_params(modes, at_actuator, step)?;
+    let (sp, text) = if modes.len() <= fmu_modal_structure::PARAMETER_MODES {
+        (fmu_modal_structure::StructureFmuParams { structure, modal_table: String::new() }, None)
+    } else {
+        let text = fmu_modal_structure::modal_table(&structure);
+        let only_settings = ModalParams { n_modes: 1, modes: ModalParams::default().modes, ..structure };
+        (
+            fmu_modal_structure::StructureFmuParams {
+                structure: only_settings,
+                modal_table: table.display().to_string(),
+            },
+            Some(text),
+        )
+    };
+    let params = changed(
+        fmu_modal_structure::ModalStructure::description(),
+        fmu_modal_structure::parameter_assignments(&sp),
+        &fmu_modal_structure::parameter_assignments(&Default::default()),
+    )?;
+    Ok((ssp::ssv_xml(name, &params).map_err(|e| ModelError::Unsupported(e.to_string()))?, text))
 }
 
 /// Every variable of `now` whose value differs from the FMU's start value (`base`), as SSP

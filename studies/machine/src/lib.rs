@@ -19,6 +19,7 @@
 
 pub mod closed;
 pub mod fmus;
+pub mod frf;
 pub mod lobes;
 pub mod machine;
 pub mod models;

@@ -211,8 +211,10 @@ pub struct Machine {
     pub name: String,
     /// The cutter.
     pub tool: Tool,
-    /// The modes of the tool-point receptance.
+    /// The modes of the tool-point receptance (empty when the structure is measured FRFs only).
     pub modes: Vec<Mode>,
+    /// Measured tool-point FRFs (`[structure] frf`), if given.
+    pub frf: Option<crate::frf::MeasuredFrf>,
     /// The material.
     pub material: Material,
     /// The cut.
@@ -233,6 +235,17 @@ impl Machine {
             Milling::Up => (0.0, phi_c),
             Milling::Down => (PI - phi_c, PI),
         }
+    }
+
+    /// An error unless the structure has modes (a machine given by measured FRFs alone has
+    /// zero-order lobes from the data; everything else needs modes).
+    pub fn require_modes(&self, what: &str) -> Result<(), crate::models::ModelError> {
+        if self.modes.is_empty() {
+            return Err(crate::models::ModelError::Unsupported(format!(
+                "{what} needs the structure's modes, and this machine file gives measured FRFs only: fit them first (`chatter frf fit --machine <this file>` writes a machine file with the fitted modes)"
+            )));
+        }
+        Ok(())
     }
 
     /// The highest natural frequency \[Hz\].

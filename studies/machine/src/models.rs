@@ -65,6 +65,7 @@ impl Machine {
 
     /// The semi-discretisation model (open loop).
     pub fn sd_model(&self) -> Result<MillingModel, ModelError> {
+        self.require_modes("semi-discretisation")?;
         let s = Structure::from_modes(&self.mode_shapes())?;
         Ok(MillingModel::new(&s, self.cutter()?, None)?)
     }
@@ -118,6 +119,7 @@ pub struct ClosedLoop<'a> {
 impl<'a> ClosedLoop<'a> {
     /// The machine's loop with `params` (the machine must have an actuator).
     pub fn new(machine: &'a Machine, params: &ControllerParams) -> Result<ClosedLoop<'a>, ModelError> {
+        machine.require_modes("a controller's closed loop")?;
         let actuator = machine
             .actuator
             .as_ref()

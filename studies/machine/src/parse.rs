@@ -1,6 +1,7 @@
 //! Reading each table of a machine file ([`crate::machine`]): the quantity fields with their
 //! dimensions, physical ranges and likely unit slips, and the checks between fields.
 
+use crate::frf::MeasuredFrf;
 use crate::machine::{
     Actuator, Axis, ControllerChoice, Law, Machine, Material, Milling, Mode, Operation, Tool, VERSION,
 };
@@ -128,7 +129,13 @@ impl Machine {
             field: String::new(),
             message: format!("cannot read: {e}"),
         })?;
-        let mut m = Machine::from_toml(&text, &file)?;
+        let base = path.parent().unwrap_or(Path::new("."));
+        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| MachineError {
+            file: file.clone(),
+            field: String::new(),
+            message: format!("not valid TOML: {}", e.message().trim()),
+        })?;
+        let mut m = Machine::from_table_in(&table, &file, base)?;
         if let Some(c) = &mut m.controller
             && let Some(p) = &mut c.parameters
             && p.is_relative()
@@ -148,8 +155,14 @@ impl Machine {
         Machine::from_table(&table, file)
     }
 
-    /// Read a machine from a parsed TOML table.
+    /// Read a machine from a parsed TOML table (measured FRF files relative to the current
+    /// folder).
     pub fn from_table(table: &toml::Table, file: &str) -> Result<Machine, MachineError> {
+        Machine::from_table_in(table, file, Path::new("."))
+    }
+
+    /// Read a machine from a parsed TOML table, measured FRF files relative to `base`.
+    pub fn from_table_in(table: &toml::Table, file: &str, base: &Path) -> Result<Machine, MachineError> {
         let root = Node::root(file, table);
         root.finish(&["version", "name", "tool", "structure", "material", "operation", "actuator", "controller"])?;
         let version =
@@ -161,15 +174,26 @@ impl Machine {
         let name = root.string("name")?.unwrap_or_else(|| "machine".into());
         let mut warnings = Vec::new();
         let tool = read_tool(&root, &mut warnings)?;
-        let modes = read_modes(&root)?;
+        let (modes, frf) = read_structure(&root, base)?;
         let material = read_material(&root)?;
-        let operation = read_operation(&root, &tool, &modes)?;
+        let peaks: Vec<f64> = if modes.is_empty() {
+            frf.as_ref().map(MeasuredFrf::peak_hz).into_iter().collect()
+        } else {
+            modes.iter().map(|m| m.frequency_hz).collect()
+        };
+        let operation = read_operation(&root, &tool, &peaks)?;
         let actuator = read_actuator(&root)?;
         let controller = read_controller(&root)?;
         if controller.as_ref().is_some_and(|c| c.structure != "off") && actuator.is_none() {
             return Err(root.err("controller", "a controller needs an [actuator] table (its axis and force limit)"));
         }
-        Ok(Machine { name, tool, modes, material, operation, actuator, controller, warnings })
+        if modes.is_empty() && controller.is_some() {
+            return Err(root.err(
+                "controller",
+                "a controller needs the structure's modes (fit the measured FRFs: chatter frf fit ... --machine FILE)",
+            ));
+        }
+        Ok(Machine { name, tool, modes, frf, material, operation, actuator, controller, warnings })
     }
 }
 
@@ -262,24 +286,41 @@ fn read_mode(n: &Node<'_>, label: String, shape: Option<[f64; 2]>) -> Result<Mod
     Ok(Mode { label, frequency_hz: omega / (2.0 * PI), damping, stiffness, shape })
 }
 
-pub(crate) fn read_modes(root: &Node<'_>) -> Result<Vec<Mode>, MachineError> {
-    let s = root
-        .table("structure")?
-        .ok_or_else(|| root.missing("structure", "the modes ([structure] with x = [...] and y = [...])"))?;
-    s.finish(&["x", "y", "modes"])?;
+pub(crate) fn read_structure(root: &Node<'_>, base: &Path) -> Result<(Vec<Mode>, Option<MeasuredFrf>), MachineError> {
+    let s = root.table("structure")?.ok_or_else(|| {
+        root.missing("structure", "the modes ([structure] with x = [...] and y = [...]) or measured FRFs (frf = [...])")
+    })?;
+    s.finish(&["x", "y", "modes", "frf"])?;
     let mut modes = Vec::new();
     for (key, shape) in [("x", Some(Axis::X.unit())), ("y", Some(Axis::Y.unit())), ("modes", None)] {
         for (i, n) in s.tables(key)?.iter().enumerate() {
             modes.push(read_mode(n, format!("{key}[{i}]"), shape)?);
         }
     }
-    if s.has("frf") {
-        return Err(s.err("frf", "measured FRFs are read by `chatter frf` (fit them to modes first); this version of the machine file takes modes"));
+    let files: Vec<String> = match s.get("frf") {
+        None => Vec::new(),
+        Some(toml::Value::String(f)) => vec![f.clone()],
+        Some(toml::Value::Array(a)) if !a.is_empty() && a.iter().all(toml::Value::is_str) => {
+            a.iter().filter_map(|v| v.as_str().map(String::from)).collect()
+        }
+        Some(_) => {
+            return Err(s.err(
+                "frf",
+                "a file name or a list of them (CSV or UFF 58), e.g. frf = [\"tap_xx.csv\", \"tap_yy.csv\"]",
+            ));
+        }
+    };
+    let frf = if files.is_empty() {
+        None
+    } else {
+        let paths: Vec<PathBuf> =
+            files.iter().map(|f| if Path::new(f).is_relative() { base.join(f) } else { PathBuf::from(f) }).collect();
+        Some(MeasuredFrf::read(&paths).map_err(|e| s.err("frf", e.to_string()))?)
+    };
+    if modes.is_empty() && frf.is_none() {
+        return Err(s.err("", "no modes: give at least one under x, y or modes, or measured FRFs under frf"));
     }
-    if modes.is_empty() {
-        return Err(s.err("", "no modes: give at least one under x, y or modes"));
-    }
-    Ok(modes)
+    Ok((modes, frf))
 }
 
 pub(crate) fn read_material(root: &Node<'_>) -> Result<Material, MachineError> {
@@ -356,7 +397,7 @@ pub(crate) fn read_material(root: &Node<'_>) -> Result<Material, MachineError> {
     Ok(Material { law, kt, kr, kte, kre })
 }
 
-pub(crate) fn read_operation(root: &Node<'_>, tool: &Tool, modes: &[Mode]) -> Result<Operation, MachineError> {
+pub(crate) fn read_operation(root: &Node<'_>, tool: &Tool, peaks_hz: &[f64]) -> Result<Operation, MachineError> {
     let o = root
         .table("operation")?
         .ok_or_else(|| root.missing("operation", "the cut ([operation] with immersion, milling, feed_per_tooth)"))?;
@@ -409,8 +450,8 @@ pub(crate) fn read_operation(root: &Node<'_>, tool: &Tool, modes: &[Mode]) -> Re
         None => {
             // tooth passing from a tenth of the lowest mode to 1.5 × the highest: the lobes of every mode
             let z = tool.teeth as f64;
-            let lo = modes.iter().map(|m| m.frequency_hz).fold(f64::INFINITY, f64::min) * 60.0 / z * 0.1;
-            let hi = modes.iter().map(|m| m.frequency_hz).fold(0.0, f64::max) * 60.0 / z * 1.5;
+            let lo = peaks_hz.iter().copied().fold(f64::INFINITY, f64::min) * 60.0 / z * 0.1;
+            let hi = peaks_hz.iter().copied().fold(0.0, f64::max) * 60.0 / z * 1.5;
             (lo.max(100.0), hi.min(3e5))
         }
         Some(toml::Value::Array(a)) if a.len() == 2 => {

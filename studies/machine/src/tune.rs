@@ -178,6 +178,7 @@ pub fn tune(
     o: &TuneOptions,
     progress: &(dyn Fn(Structure, usize, usize) + Sync),
 ) -> Result<Vec<Tuned>, String> {
+    m.require_modes("tuning").map_err(|e| e.to_string())?;
     let plant = MachinePlant::new(m.clone())?;
     let a = m.actuator.as_ref().ok_or("tuning needs the machine's [actuator]")?;
     let (lo, hi) = m.operation.speed_range_rpm;
@@ -204,6 +205,7 @@ pub fn tune(
 /// The open-loop smallest critical depth over the machine's speed range (`speeds` speeds), by
 /// the method the tuning uses.
 pub fn open_loop_minimum(m: &Machine, speeds: usize) -> Result<CriticalPoint, String> {
+    m.require_modes("the open-loop minimum").map_err(|e| e.to_string())?;
     let (lo, hi) = m.operation.speed_range_rpm;
     let frf = |w: f64| m.receptance(w);
     crate::lobes::min_depth(m, Method::for_immersion(m), &frf, &speed_grid(lo, hi, speeds)).map_err(|e| e.to_string())

@@ -37,6 +37,28 @@ pub fn summary(m: &Machine) -> String {
         let deg: Vec<String> = p.iter().map(|a| format!("{:.1}", a.to_degrees())).collect();
         let _ = write!(s, ", variable pitch [{}] deg", deg.join(", "));
     }
+    if let Some(f) = &m.frf {
+        let (lo, hi) = f.range_hz();
+        let pairs: Vec<&str> = f.h.keys().map(|p| p.name()).collect();
+        let _ = write!(
+            s,
+            "\n\nMeasured FRFs: {} ({}, {} frequencies over {lo}–{hi} Hz, peak at {:.1} Hz)",
+            f.source,
+            pairs.join(", "),
+            f.freq_hz.len(),
+            f.peak_hz()
+        );
+        for n in &f.notes {
+            let _ = write!(s, "\n  note: {n}");
+        }
+    }
+    if m.modes.is_empty() {
+        let _ = write!(
+            s,
+            "\n\nNo modes: zero-order lobes from the measured FRFs only (fit modes with `chatter frf fit` for the rest)."
+        );
+        return s;
+    }
     let _ = writeln!(s, "\n\n| mode | f (Hz) | ζ | k (N/m) | m (kg) | shape (x, y) |\n|---|---|---|---|---|---|");
     for md in &m.modes {
         let _ = writeln!(
