@@ -112,7 +112,7 @@ fmi2_export::adapter! {
 }
 
 /// The modes declared as parameters (`mode1.*` … `mode4.*`); more go through a modal table.
-pub const PARAMETER_MODES: usize = 4;
+pub use machine_structure::modal::PARAMETER_MODES;
 
 /// `p`'s modes as a modal table (module docs; full precision, read back bit for bit).
 pub fn modal_table(p: &ModalParams) -> String {
@@ -156,9 +156,7 @@ pub fn apply_modal_table(p: &mut ModalParams, text: &str) -> Result<(), String> 
     if modes.is_empty() || modes.len() > MAX_MODES {
         return Err(format!("modal table holds {} modes, expected 1..={MAX_MODES}", modes.len()));
     }
-    p.n_modes = modes.len() as u32;
-    p.modes[..modes.len()].copy_from_slice(&modes);
-    Ok(())
+    p.set_modes(&modes)
 }
 
 /// The FMU model: the structure core and the parameters it was built from.

@@ -37,8 +37,12 @@ use crate::noise::BandLimitedNoise;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// The most modes (the FMU declares four as parameters; a modal table holds up to this many).
+/// The most modes (a modal table's limit).
 pub const MAX_MODES: usize = 16;
+
+/// The modes held in [`ModalParams::modes`] (the FMU's `mode1.*` … `mode4.*` parameters); modes
+/// beyond these are in [`ModalParams::extra_modes`].
+pub const PARAMETER_MODES: usize = 4;
 
 /// Why the structure refused to start or to step.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -118,10 +122,13 @@ pub struct Disturbance {
 /// actuator at the same point, 50 N RMS noise and ±10 % drift at 0.5 Hz).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ModalParams {
-    /// Number of modes used (1..=4).
+    /// Number of modes used (1..=[`MAX_MODES`]).
     pub n_modes: u32,
-    /// The modes (first `n_modes` used).
-    pub modes: [StructureMode; MAX_MODES],
+    /// The first modes (the first `n_modes` of `modes` then `extra_modes` are used).
+    pub modes: [StructureMode; PARAMETER_MODES],
+    /// Modes beyond [`PARAMETER_MODES`] (from a modal table; empty by default).
+    #[serde(default)]
+    pub extra_modes: Vec<StructureMode>,
     /// Disturbances.
     pub disturbance: Disturbance,
     /// Random seed of the noise.
@@ -144,13 +151,13 @@ impl Default for ModalParams {
         let (m3, k3) = from_peak(2499.8, 0.00954, 0.00708e-6);
         ModalParams {
             n_modes: 1,
-            // the four parameter modes' defaults; modes 5.. (modal table only) start as mode 1
-            modes: std::array::from_fn(|i| match i {
-                1 => StructureMode::from_mass_stiffness(m2, k2, 0.00936, x, x),
-                2 => StructureMode::from_mass_stiffness(m3, k3, 0.00954, x, x),
-                3 => StructureMode::from_mass_stiffness(30.0, 2.40e7, 0.0088, [0.0, 1.0], [0.0, 1.0]),
-                _ => StructureMode::from_mass_stiffness(30.0, 2.40e7, 0.0088, x, x),
-            }),
+            modes: [
+                StructureMode::from_mass_stiffness(30.0, 2.40e7, 0.0088, x, x),
+                StructureMode::from_mass_stiffness(m2, k2, 0.00936, x, x),
+                StructureMode::from_mass_stiffness(m3, k3, 0.00954, x, x),
+                StructureMode::from_mass_stiffness(30.0, 2.40e7, 0.0088, [0.0, 1.0], [0.0, 1.0]),
+            ],
+            extra_modes: Vec::new(),
             disturbance: Disturbance {
                 noise: true,
                 noise_rms: 50.0,
@@ -174,7 +181,14 @@ impl ModalParams {
         if !(1..=MAX_MODES as u32).contains(&self.n_modes) {
             return Err(format!("n_modes must be in 1..={MAX_MODES} (got {})", self.n_modes));
         }
-        for (i, m) in self.modes[..self.n_modes as usize].iter().enumerate() {
+        let held = PARAMETER_MODES + self.extra_modes.len();
+        if self.n_modes as usize > held {
+            return Err(format!(
+                "n_modes = {} but {held} modes are given (more than {PARAMETER_MODES} come from a modal table)",
+                self.n_modes
+            ));
+        }
+        for (i, m) in self.mode_list().iter().enumerate() {
             let n = i + 1;
             if !(m.frequency.is_finite() && m.frequency > 0.0) {
                 return Err(format!("mode{n}.frequency must be finite and > 0"));
@@ -214,8 +228,21 @@ impl ModalParams {
     }
 
     /// The used modes.
-    pub fn mode_list(&self) -> &[StructureMode] {
-        &self.modes[..self.n_modes as usize]
+    pub fn mode_list(&self) -> Vec<StructureMode> {
+        self.modes.iter().chain(&self.extra_modes).take(self.n_modes as usize).copied().collect()
+    }
+
+    /// Set the modes (1..=[`MAX_MODES`]): the first [`PARAMETER_MODES`] into `modes`, the rest
+    /// into `extra_modes`, and `n_modes`.
+    pub fn set_modes(&mut self, modes: &[StructureMode]) -> Result<(), String> {
+        if modes.is_empty() || modes.len() > MAX_MODES {
+            return Err(format!("{} modes, expected 1..={MAX_MODES}", modes.len()));
+        }
+        let k = modes.len().min(PARAMETER_MODES);
+        self.modes[..k].copy_from_slice(&modes[..k]);
+        self.extra_modes = modes[k..].to_vec();
+        self.n_modes = modes.len() as u32;
+        Ok(())
     }
 }
 
@@ -268,6 +295,8 @@ fn discretise(m: f64, c: f64, k: f64, h: f64) -> Disc {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ModalStructure {
     p: ModalParams,
+    /// The used modes, resolved once from `p` (no allocation per step).
+    modes: Vec<StructureMode>,
     q: [f64; MAX_MODES],
     qd: [f64; MAX_MODES],
     t0: f64,
@@ -290,6 +319,7 @@ impl ModalStructure {
         let noise_now = noise.as_mut().map_or(0.0, BandLimitedNoise::next_sample);
         let mut s = ModalStructure {
             p: p.clone(),
+            modes: p.mode_list(),
             q: [0.0; MAX_MODES],
             qd: [0.0; MAX_MODES],
             t0,
@@ -343,7 +373,7 @@ impl ModalStructure {
     }
 
     fn stiffness(&self, i: usize, t: f64) -> f64 {
-        let k = self.p.modes[i].stiffness();
+        let k = self.modes[i].stiffness();
         let d = &self.p.disturbance;
         if i == 0 && d.drift { k * (1.0 + d.drift_amplitude * (2.0 * PI * d.drift_frequency * t).sin()) } else { k }
     }
@@ -353,7 +383,7 @@ impl ModalStructure {
         let dir = self.p.disturbance.direction_angle;
         let ft = [inputs.tool_force[0] + dist * dir.cos(), inputs.tool_force[1] + dist * dir.sin()];
         let mut f = [0.0; MAX_MODES];
-        for (i, m) in self.p.mode_list().iter().enumerate() {
+        for (i, m) in self.modes.iter().enumerate() {
             f[i] = m.tool[0] * ft[0]
                 + m.tool[1] * ft[1]
                 + m.actuator[0] * inputs.actuator_force[0]
@@ -368,7 +398,7 @@ impl ModalStructure {
             return *d;
         }
         let mut d = [Disc::default(); MAX_MODES];
-        for (i, m) in self.p.mode_list().iter().enumerate() {
+        for (i, m) in self.modes.iter().enumerate() {
             d[i] = discretise(m.modal_mass, m.damping(), m.stiffness(), dt);
         }
         if self.cache.len() >= 4 {
@@ -438,7 +468,7 @@ impl ModalStructure {
     fn exact(&mut self, t: f64, dt: f64, f: &[f64; MAX_MODES]) {
         let mut maps = self.maps(dt);
         if self.p.disturbance.drift {
-            let m = &self.p.modes[0];
+            let m = &self.modes[0];
             maps[0] = discretise(m.modal_mass, m.damping(), self.stiffness(0, t + 0.5 * dt), dt);
         }
         for (i, d) in maps.iter().enumerate().take(self.p.n_modes as usize) {
@@ -451,7 +481,7 @@ impl ModalStructure {
     fn rk4(&mut self, t: f64, dt: f64, f: &[f64; MAX_MODES]) {
         #[allow(clippy::needless_range_loop)] // i indexes the modes, their forces and states alike
         for i in 0..self.p.n_modes as usize {
-            let m = self.p.modes[i];
+            let m = self.modes[i];
             let c = m.damping();
             let acc = |tt: f64, q: f64, v: f64| (f[i] - c * v - self.stiffness(i, tt) * q) / m.modal_mass;
             let (q0, v0) = (self.q[i], self.qd[i]);
@@ -466,7 +496,7 @@ impl ModalStructure {
 
     fn refresh(&mut self, dist: f64) {
         let mut o = StructureOutputs { disturbance_force: dist, ..Default::default() };
-        for (i, m) in self.p.mode_list().iter().enumerate() {
+        for (i, m) in self.modes.iter().enumerate() {
             for a in 0..2 {
                 o.tool[a] += m.tool[a] * self.q[i];
                 o.tool_velocity[a] += m.tool[a] * self.qd[i];
@@ -497,7 +527,7 @@ impl ModalStructure {
         }
         for (k, maps) in &self.cache {
             let h = f64::from_bits(*k);
-            for (i, m) in self.p.mode_list().iter().enumerate() {
+            for (i, m) in self.modes.iter().enumerate() {
                 if maps[i] != discretise(m.modal_mass, m.damping(), m.stiffness(), h) {
                     return Err("the cached discretisation does not match the parameters".into());
                 }

@@ -171,16 +171,18 @@ pub fn modal_params(modes: &[Mode], at_actuator: bool, step: f64) -> Result<Moda
             modes.len()
         )));
     }
-    let mut structure = ModalParams { n_modes: modes.len() as u32, ..ModalParams::default() };
-    for (slot, m) in structure.modes.iter_mut().zip(modes) {
-        *slot = StructureMode {
+    let mut structure = ModalParams::default();
+    let list: Vec<StructureMode> = modes
+        .iter()
+        .map(|m| StructureMode {
             frequency: m.frequency_hz,
             damping_ratio: m.damping,
             modal_mass: m.mass(),
             tool: m.shape,
             actuator: if at_actuator { m.shape } else { [0.0, 0.0] },
-        };
-    }
+        })
+        .collect();
+    structure.set_modes(&list).map_err(ModelError::Unsupported)?;
     let d = &mut structure.disturbance;
     (d.noise, d.drift, d.sine_amplitude) = (false, false, 0.0);
     structure.internal_step = step;
@@ -207,7 +209,8 @@ pub fn structure_ssv(
         (fmu_modal_structure::StructureFmuParams { structure, modal_table: String::new() }, None)
     } else {
         let text = fmu_modal_structure::modal_table(&structure);
-        let only_settings = ModalParams { n_modes: 1, modes: ModalParams::default().modes, ..structure };
+        let only_settings =
+            ModalParams { n_modes: 1, modes: ModalParams::default().modes, extra_modes: Vec::new(), ..structure };
         (
             fmu_modal_structure::StructureFmuParams {
                 structure: only_settings,
