@@ -44,12 +44,17 @@ fn main() {
     let speeds = machine::workflow::speeds(lo, hi, n);
     let t = Instant::now();
     let d = pool(1).install(|| {
-        let zo = ZeroOrder2d::new(|w: f64| m.receptance(w), &m.cutter().unwrap(), machine::lobes::band(&m), lo).unwrap();
+        let zo =
+            ZeroOrder2d::new(|w: f64| m.receptance(w), &m.cutter().unwrap(), machine::lobes::band(&m), lo).unwrap();
         zo.diagram(&speeds)
     });
     let zo_s = t.elapsed().as_secs_f64();
     let min = d.iter().map(|p| p.depth).fold(f64::INFINITY, f64::min);
-    println!("2-D zero-order, 4 modes: {n} speeds in {zo_s:.3} s on one thread ({:.1} µs per speed), b_min {:.4} mm", zo_s / n as f64 * 1e6, min * 1e3);
+    println!(
+        "2-D zero-order, 4 modes: {n} speeds in {zo_s:.3} s on one thread ({:.1} µs per speed), b_min {:.4} mm",
+        zo_s / n as f64 * 1e6,
+        min * 1e3
+    );
     // semi-discretisation, all cores vs one
     let n = if quick { 4 } else { 200 };
     let speeds = machine::workflow::speeds(lo, hi, n);
@@ -63,7 +68,10 @@ fn main() {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let (t_all, a) = run(cores);
     let (t_one, b) = run(1);
-    assert!(a.iter().zip(&b).all(|(x, y)| x.critical.value == y.critical.value), "the same lobes on any number of threads");
+    assert!(
+        a.iter().zip(&b).all(|(x, y)| x.critical.value == y.critical.value),
+        "the same lobes on any number of threads"
+    );
     println!(
         "semi-discretisation (m = 40), 4 modes: {n} speeds in {t_all:.2} s on {cores} threads, {t_one:.2} s on one thread: {:.2}x ({:.0} ms per speed on one thread)",
         t_one / t_all,
