@@ -35,6 +35,10 @@ pub struct FrohArgs {
     /// At β = 0 estimate three parameters (a, b0, b1) instead of the ZOH model's two.
     #[arg(long)]
     pub estimate_b1_at_zoh: bool,
+    /// Instead of one sweep: the θ₀ sensitivity, the sweep for both targets × K̂/K_p ∈ {0.25,
+    /// 0.5, 1, 2} × τ̂/τ_c ∈ {0.5, 1, 1.5, 2} (froh_theta0.csv, froh_theta0.md).
+    #[arg(long)]
+    pub theta0: bool,
     /// Output directory (froh_zeros.csv, froh_sweep.csv, froh_summary.md).
     #[arg(long, default_value = "froh-out")]
     pub out: PathBuf,
@@ -58,6 +62,16 @@ pub fn froh(a: &FrohArgs) -> Result<()> {
         o.duration = 6.0;
     }
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    if a.theta0 {
+        let rows = froh::theta0_sensitivity(&o, &[0.25, 0.5, 1.0, 2.0], &[0.5, 1.0, 1.5, 2.0])?;
+        std::fs::write(a.out.join("froh_theta0.csv"), froh::theta0_csv(&rows))?;
+        let md = froh::theta0_markdown(&rows);
+        std::fs::write(a.out.join("froh_theta0.md"), &md)?;
+        println!("the best beta (argmin J) and J(-0.2)/J(0) per initial model (K_hat, tau_hat) and J target:");
+        println!("{md}");
+        println!("written: {}/froh_theta0.{{csv,md}}", a.out.display());
+        return Ok(());
+    }
     let mut locus = Vec::new();
     let mut points = Vec::new();
     let mut rows = Vec::new();

@@ -66,8 +66,10 @@ fn chatter_dsmc_quick_writes_the_table_and_csv() {
     // the readings grid of --quick: 4 readings × T = 1e-4, 3e-4 s × 2 kN, 5 controllers each
     let grid = std::fs::read_to_string(d.join("dsmc_readings.csv")).unwrap();
     assert_eq!(grid.lines().count(), 1 + 4 * 2 * 5, "{grid}");
+    // a reading's label must not split a CSV row
+    assert!(grid.lines().all(|l| l.split(',').count() == 12), "{grid}");
     let md = std::fs::read_to_string(d.join("dsmc_readings.md")).unwrap();
-    assert!(md.contains("| Euler, j = p + T v | 3e-4 | 2000 |"), "{md}");
+    assert!(md.contains("| Euler (j = p + T v) | 3e-4 | 2000 |"), "{md}");
     std::fs::remove_dir_all(&d).unwrap();
 }
 

@@ -83,3 +83,33 @@ fn the_sign_of_the_best_beta_depends_on_the_target_of_j() {
         assert!((at0(&step) / at0(&fr) - 1.0).abs() < 1e-12, "{reading}: {} vs {}", at0(&step), at0(&fr));
     }
 }
+
+/// The initial model θ₀ (not printed in the paper) moves the best β across zero under both
+/// targets: at τ_c = T/2, K̂ = 0.5 K_p puts it above zero against the FROH target and below
+/// against the step target, K̂ = 2 K_p the other way round. `chatter froh --theta0 --quick`
+/// writes the grid (2 targets × 4 gains × 4 time constants × 3 readings).
+#[test]
+fn the_sign_of_the_best_beta_depends_on_the_initial_model() {
+    let o = FrohStudy { betas: vec![-0.6, -0.4, -0.2, 0.0, 0.4, 0.8], duration: 3.0, ..Default::default() };
+    let rows = froh::theta0_sensitivity(&o, &[0.5, 2.0], &[1.5]).unwrap();
+    let argmin = |target, g: f64| {
+        let r = rows
+            .iter()
+            .find(|r| r.target == target && (r.gain_factor - g).abs() < 1e-12 && r.reading == "T/2")
+            .unwrap();
+        r.summary.as_ref().unwrap().argmin
+    };
+    assert!(argmin(Target::Froh, 0.5) > 0.0 && argmin(Target::Froh, 2.0) < 0.0, "{rows:?}");
+    assert!(argmin(Target::Step, 0.5) < 0.0 && argmin(Target::Step, 2.0) > 0.0, "{rows:?}");
+    let d = std::env::temp_dir().join(format!("chatter-froh-theta0-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let out = Command::new(env!("CARGO_BIN_EXE_chatter"))
+        .args(["froh", "--theta0", "--quick", "--out", d.to_str().unwrap()])
+        .output()
+        .expect("run chatter");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(d.join("froh_theta0.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 2 * 4 * 4 * 3, "{csv}");
+    assert_eq!(std::fs::read_to_string(d.join("froh_theta0.md")).unwrap().lines().count(), 2 + 2 * 4 * 4);
+    std::fs::remove_dir_all(&d).unwrap();
+}

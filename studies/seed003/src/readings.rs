@@ -38,9 +38,9 @@ pub fn readings() -> Vec<Reading> {
     let r = |label, nominal_model, computation_delay| Reading { label, nominal_model, computation_delay };
     vec![
         r("exact ZOH (default)", NominalModel::ExactZoh, false),
-        r("Euler, j = p + T v", NominalModel::Euler, false),
-        r("identity, j = p", NominalModel::Identity, false),
-        r("exact ZOH, 1-sample delay", NominalModel::ExactZoh, true),
+        r("Euler (j = p + T v)", NominalModel::Euler, false),
+        r("identity (j = p)", NominalModel::Identity, false),
+        r("exact ZOH + 1-sample delay", NominalModel::ExactZoh, true),
     ]
 }
 

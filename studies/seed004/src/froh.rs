@@ -24,6 +24,7 @@
 use froh_mrac::{ForceError, LoopSample, MracParams, simulate};
 use milling_force_plant::ForcePlantParams;
 use milling_force_plant::froh::{self, DiscreteTf, RampPropagator, StateSpace};
+use model_kit::Choice;
 use nalgebra::DVector;
 
 model_kit::choice! {
@@ -363,6 +364,80 @@ pub fn summary_markdown(rows: &[ReadingSummary]) -> String {
             r.sampled.1,
             r.sampled.2
         );
+    }
+    s
+}
+
+/// One cell of the θ₀ sensitivity: the sweep's result for one target, initial model and τ_c
+/// reading (`None`: no β of the grid can start from this initial model).
+#[derive(Clone, Debug)]
+pub struct Theta0Row {
+    /// The target of J.
+    pub target: Target,
+    /// K̂ / K_p(2 mm).
+    pub gain_factor: f64,
+    /// τ̂ / τ_c.
+    pub tau_factor: f64,
+    /// τ_c reading.
+    pub reading: &'static str,
+    /// The sweep's summary.
+    pub summary: Option<ReadingSummary>,
+}
+
+/// The sweep for every target × initial model (`K̂ = g K_p(2 mm)`, `τ̂ = f τ_c`) × τ_c reading:
+/// the initial model θ₀ is not printed in the paper.
+pub fn theta0_sensitivity(o: &FrohStudy, gains: &[f64], taus: &[f64]) -> Result<Vec<Theta0Row>, ForceError> {
+    let mut rows = Vec::new();
+    for target in [Target::Froh, Target::Step] {
+        for &gain_factor in gains {
+            for &tau_factor in taus {
+                let s = FrohStudy { target, gain_factor, tau_factor, ..o.clone() };
+                for (reading, tau_c) in tau_c_readings() {
+                    let summary = match sweep(&s, reading, tau_c) {
+                        Ok((_, r)) => Some(r),
+                        Err(ForceError::Design(_)) => None,
+                        Err(e) => return Err(e),
+                    };
+                    rows.push(Theta0Row { target, gain_factor, tau_factor, reading, summary });
+                }
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The θ₀ sensitivity as a Markdown table: one row per target and initial model, the argmin
+/// and J(−0.2)/J(0) per τ_c reading.
+pub fn theta0_markdown(rows: &[Theta0Row]) -> String {
+    let readings = tau_c_readings();
+    let mut s = String::from("| J target | K̂/K_p | τ̂/τ_c |");
+    for (r, _) in &readings {
+        s += &format!(" {r}: argmin, J(−0.2)/J(0) |");
+    }
+    s += "\n|---|---|---|";
+    s += &"---|".repeat(readings.len());
+    for chunk in rows.chunks(readings.len()) {
+        let h = &chunk[0];
+        s += &format!("\n| {} | {} | {} |", h.target.name(), h.gain_factor, h.tau_factor);
+        for r in chunk {
+            s += &match &r.summary {
+                Some(x) => format!(" {:.2}, {:.3} |", x.argmin, x.j_m02 / x.j0),
+                None => " no β starts |".into(),
+            };
+        }
+    }
+    s + "\n"
+}
+
+/// The θ₀ sensitivity as CSV.
+pub fn theta0_csv(rows: &[Theta0Row]) -> String {
+    let mut s = String::from("target,gain_factor,tau_factor,reading,argmin,J_argmin,J0,J_m02\n");
+    for r in rows {
+        let v = r
+            .summary
+            .as_ref()
+            .map_or(",,,".into(), |x| format!("{},{:.9},{:.9},{:.9}", x.argmin, x.j_min, x.j0, x.j_m02));
+        s += &format!("{},{},{},{},{v}\n", r.target.name(), r.gain_factor, r.tau_factor, r.reading);
     }
     s
 }
