@@ -84,6 +84,7 @@ pub static TABLE: LazyLock<Table<MracParams, MracInputs, MracOutputs>> = LazyLoc
                 107 "gain_estimate"  [gain_estimate]  "N.s/mm" [1e-12, 1e12]   "initial model: process gain";
                 108 "tau_estimate"   [tau_estimate]   "s"      [1e-9, 100.0]   "initial model: chip time constant";
                 0   "adapt"          [adapt]          ""       []              "RLS on (off: keep the initial model)";
+                1   "estimate_b1_at_zoh" [estimate_b1_at_zoh] "" []            "at beta = 0 estimate b1 too (three parameters) instead of the ZOH model's (a, b0)";
             }
         },
     )

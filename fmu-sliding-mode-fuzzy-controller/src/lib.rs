@@ -12,6 +12,10 @@
 //! call and holds the forces `u_x`, `u_y` until the next sample. The shipped system steps
 //! Gauss–Seidel controller → plant with `h = T`, so the plant integrates `[t_k, t_{k+1})` with
 //! `u(t_k)` computed from its state at `t_k`: the loop of [`sliding_fuzzy_control::simulate`].
+//! The outputs after a step are the force that acts over that step; a Jacobi master hands the
+//! plant the previous step's instead, which at `h = T` is one more sample of delay (the
+//! `computation_delay` parameter models a controller that needs it; no FMU output can serve
+//! both orders, since the two give the plant the controller's output of two different steps).
 //!
 //! The fuzzy consequents (the learned weights), the error history, the PID integrator, the
 //! model prediction and the clock are all in the serialized FMU state.
@@ -94,6 +98,8 @@ pub static TABLE: LazyLock<Table<SlidingFuzzyParams, FuzzyInputs, ControllerOutp
                 125 "Kd_y"             [pid_y.kd]           "N.s/e"      [-1e12, 1e12]   "D-PID derivative gain, y";
                 126 "pid_error_scale"  [pid_error_scale]    "e/m"      [1e-12, 1e12]   "D-PID error unit: e = -scale * position (1000: mm)";
                 0   "karnik_mendel"    [karnik_mendel]      ""      []              "Karnik-Mendel type reduction instead of the closed form (Eq. 25)";
+                2   "nominal_model"    [enum nominal_model] ""      []              "what the sliding-mode controllers know of A_dis (Eq. 22): exact_zoh, euler (j = p + T v) or identity (j = p)";
+                1   "computation_delay" [computation_delay] ""      []              "one sample of computation delay: the command of sample k acts from t_(k+1) (with one-step prediction)";
             }
         },
     )

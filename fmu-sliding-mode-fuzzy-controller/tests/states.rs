@@ -28,13 +28,18 @@ fmi2_export::adapter_tests! {
     states: { stepped: closed_loop(50), fresh: fresh, seed: 0x5eed_0003_u64, tries: 2000 },
 }
 
-/// A fresh instance in mode `mode` (enumeration index) with Karnik–Mendel on or off.
-fn fresh_with(mode: i32, km: bool) -> Instance<M> {
-    ready_with::<M>(&[("mode", Value::Integer(mode)), ("karnik_mendel", Value::Boolean(km))])
+/// A fresh instance in mode `mode` (enumeration index) with Karnik–Mendel and the computation
+/// delay on or off.
+fn fresh_with(mode: i32, km: bool, delay: bool) -> Instance<M> {
+    ready_with::<M>(&[
+        ("mode", Value::Integer(mode)),
+        ("karnik_mendel", Value::Boolean(km)),
+        ("computation_delay", Value::Boolean(delay)),
+    ])
 }
 
 fn fresh() -> Instance<M> {
-    fresh_with(5, false) // dsmc_t2
+    fresh_with(5, false, false) // dsmc_t2
 }
 
 /// A fresh instance after `steps` steps of [`run`] with the seed's tool.
@@ -87,8 +92,9 @@ fn bits(v: &[f64]) -> Vec<u64> {
 
 #[test]
 fn fuzzy_weights_and_state_survive_get_set_and_serialize_bitwise() {
-    for (mode, km) in [(5, false), (5, true), (4, false)] {
-        let mut a = fresh_with(mode, km);
+    // with the computation delay the command on its way is part of the state too
+    for (mode, km, delay) in [(5, false, false), (5, true, false), (4, false, false), (5, false, true)] {
+        let mut a = fresh_with(mode, km, delay);
         let mut pa = plant();
         run(&mut a, &mut pa, 0, 370);
         let w = weights(&a);
@@ -109,7 +115,7 @@ fn fuzzy_weights_and_state_survive_get_set_and_serialize_bitwise() {
         assert_eq!(watched(&mut a), end);
         assert_eq!(bits(&weights(&a)), w_end);
         // serialize / deserialize into a fresh instance
-        let mut c = fresh_with(mode, km);
+        let mut c = fresh_with(mode, km, delay);
         c.restore(&Snapshot::<M>::deserialize(&bytes).unwrap());
         let mut pc = pb0.clone();
         run(&mut c, &mut pc, 370, 800);

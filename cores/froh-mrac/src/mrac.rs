@@ -11,7 +11,11 @@
 //! (order 2 with the FROH's pole at the origin; `b₁ = 0` for β = 0). The CNC lag τ_s = 0.1 ms
 //! is 1.2·10⁻³ of T and is left out of the controller's model (it is in the plant).
 //! RLS ([`crate::rls`]) estimates `θ = (a, b₀, b₁)` from `φ_k = (y_{k−1}, u_{k−1}, u_{k−2})`,
-//! started at the FROH model of the estimated continuous model `(K̂, τ̂)`.
+//! started at the FROH model of the estimated continuous model `(K̂, τ̂)`. At β = 0 the model
+//! is the ZOH's first-order `y_k = a y_{k−1} + b₀ u_{k−1}` (no pole at the origin, `b₁ ≡ 0`):
+//! RLS estimates the two parameters `(a, b₀)` from `(y_{k−1}, u_{k−1})` (with
+//! `estimate_b1_at_zoh`, the three of the other β, as before: a `b̂₁` that is structurally zero
+//! but estimated puts spurious zeros into the design).
 //!
 //! **Reference model.** `G_m = ω_n²/(s² + 2ζω_n s + ω_n²)` behind the same FROH:
 //! `H_m = B_m/A_m` with `deg A_m = 3` (one pole at the origin) and relative degree 1.
@@ -69,6 +73,9 @@ pub struct MracParams {
     pub tau_estimate: f64,
     /// Adapt (RLS on) or keep the initial model.
     pub adapt: bool,
+    /// At β = 0 estimate `b₁` too (three parameters, as for β ≠ 0) instead of the ZOH model's
+    /// two `(a, b₀)`.
+    pub estimate_b1_at_zoh: bool,
 }
 
 impl Default for MracParams {
@@ -86,6 +93,7 @@ impl Default for MracParams {
             gain_estimate: 0.5 * 1200.0 * 2.0 * tau_c,
             tau_estimate: 1.5 * tau_c,
             adapt: true,
+            estimate_b1_at_zoh: false,
         }
     }
 }
@@ -113,6 +121,12 @@ impl MracParams {
     /// The reference model behind the FROH.
     pub fn reference_model(&self) -> Result<DiscreteTf, ForceError> {
         DiscreteTf::froh(&StateSpace::second_order(self.zeta, self.omega_n), self.sample_period, self.beta)
+    }
+
+    /// How many parameters RLS estimates: `(a, b₀)` for the ZOH (β = 0, unless
+    /// `estimate_b1_at_zoh`), `(a, b₀, b₁)` otherwise.
+    pub fn estimated_parameters(&self) -> usize {
+        if self.beta == 0.0 && !self.estimate_b1_at_zoh { 2 } else { 3 }
     }
 
     /// `θ = (a, b₀, b₁)` of `K/(τs + 1)` behind the FROH.
@@ -212,7 +226,8 @@ impl FrohMrac {
         let reference = params.reference_model()?;
         let theta0 = params.theta_of(params.gain_estimate, params.tau_estimate)?;
         let rst = design(&theta0, &reference)?;
-        let rls = Rls::new(theta0.to_vec(), params.p0, params.lambda, params.trace_max);
+        let n = params.estimated_parameters();
+        let rls = Rls::new(theta0[..n].to_vec(), params.p0, params.lambda, params.trace_max);
         let mut c = FrohMrac {
             params: params.clone(),
             reference,
@@ -247,9 +262,10 @@ impl FrohMrac {
         &self.reference
     }
 
-    /// The present estimate θ̂ = (a, b₀, b₁).
+    /// The present estimate θ̂ = (a, b₀, b₁) (`b₁ = 0` when only `(a, b₀)` are estimated).
     pub fn theta(&self) -> [f64; 3] {
-        [self.rls.theta[0], self.rls.theta[1], self.rls.theta[2]]
+        let t = &self.rls.theta;
+        [t[0], t[1], t.get(2).copied().unwrap_or(0.0)]
     }
 
     /// The RLS estimator.
@@ -274,7 +290,8 @@ impl FrohMrac {
         let [u1, u2] = self.u_past;
         let [r1, r2] = self.r_past;
         if self.params.adapt && self.k_next > 0 {
-            self.rls.update(&[y1, u1, u2], y);
+            let phi = [y1, u1, u2];
+            self.rls.update(&phi[..self.rls.theta.len()], y);
         }
         match design(&self.theta(), &self.reference) {
             Ok(rst) => self.rst = rst,
@@ -373,7 +390,10 @@ impl FrohMrac {
     pub fn validate_state(&self) -> Result<(), String> {
         self.params.validate().map_err(|e| e.to_string())?;
         self.rls.validate()?;
-        if self.rls.theta.len() != 3 || self.reference.den.len() != 4 || self.reference.num.len() != 4 {
+        if self.rls.theta.len() != self.params.estimated_parameters()
+            || self.reference.den.len() != 4
+            || self.reference.num.len() != 4
+        {
             return Err("controller model of the wrong order".into());
         }
         let sig = [self.y_past, self.u_past, self.r_past, self.xm].concat();

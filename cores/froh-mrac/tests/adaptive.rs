@@ -151,3 +151,25 @@ fn the_adaptive_loop_is_independent_of_the_communication_step_at_the_samples() {
         assert!((a[k].force - b[10 * k].force).abs() <= 1e-9 * 1200.0, "k {k}: {} vs {}", a[k].force, b[10 * k].force);
     }
 }
+
+/// At β = 0 the model is the ZOH's first-order `y_k = a y_{k−1} + b₀u_{k−1}`: RLS estimates the
+/// two parameters `(a, b₀)` (three with `estimate_b1_at_zoh`, and for every other β), reports
+/// `b̂₁ = 0`, and with the plant's data approaches `(a, b₀)` of the chip lag behind the ZOH (to 1e-3
+/// in 200 samples: λ = 0.98, P₀ = 100 I).
+#[test]
+fn the_zoh_estimator_has_two_parameters() {
+    let plant = ForcePlantParams { tau_s: 0.0, depth: DepthProfile::constant(2.0), ..Default::default() };
+    for (beta, b1, n) in [(0.0, false, 2), (0.0, true, 3), (0.4, false, 3), (-0.2, false, 3)] {
+        let p = MracParams { beta, estimate_b1_at_zoh: b1, ..Default::default() };
+        assert_eq!(p.estimated_parameters(), n, "beta {beta}");
+        let run = simulate(&plant, &p, 1200.0, 1, 200).unwrap();
+        let last = run.last().unwrap().controller;
+        if n == 2 {
+            assert_eq!(last.b1_hat.to_bits(), 0.0f64.to_bits());
+            let truth = p.theta_of(plant.gain(2.0), plant.tau_c).unwrap();
+            assert!((last.a_hat - truth[0]).abs() < 1e-3 && (last.b0_hat / truth[1] - 1.0).abs() < 1e-3, "{last:?}");
+        } else {
+            assert!(last.b1_hat.abs() > 0.0, "beta {beta}: b1 is estimated");
+        }
+    }
+}

@@ -14,7 +14,9 @@
 //! Normalised units: `p_n = p/X`, `ṗ_n = ṗ/V`, `u_n = u/U` with `U = X/b₀` (so the nominal
 //! `h = 1`); `e(k) = −p_n(k)` (Eq. 35). Plant model `p_n(k+1) = j(k) + h u_n(k)` (Eq. 22) with
 //! the nominal `j = (A_d[0][0] p + A_d[0][1] ṗ)/X` and `h = 1` from the exact ZOH model of the
-//! nominal axis ([`crate::linear::zoh`]). Sliding variable, n = 2:
+//! nominal axis ([`crate::linear::zoh`]; the default reading of `A_dis`, which Eq. 22 calls unknown:
+//! [`crate::params`] gives the Euler and identity readings and the computation delay). Sliding
+//! variable, n = 2:
 //! `s(k) = e(k) + k₁ e(k−1) + k₂ e(k−2)` (Eq. 37; `λ² + k₁λ + k₂` stable; default double root
 //! 0.5: `k₁ = −1`, `k₂ = 0.25`). Control:
 //!
@@ -47,144 +49,9 @@
 
 use crate::fuzzy::{self, Reduction, T1System, T2System};
 use crate::linear::{Discrete, zoh};
+pub use crate::params::{AxisGains, ControlMode, NominalModel, SlidingFuzzyParams};
 use crate::{SlidingFuzzyError, finite};
 use serde::{Deserialize, Serialize};
-
-model_kit::choice! {
-    /// Which controller runs.
-    #[derive(Serialize, Deserialize)]
-    pub enum ControlMode ("ControlMode", "controller of both channels") {
-        /// No control: `u = 0`.
-        Off = "none", "no control (u = 0)";
-        /// Discrete PID (Eq. 62).
-        Dpid = "dpid", "discrete-time PID (Eq. 62)";
-        /// Discrete sliding mode with the nominal model.
-        Dsmc = "dsmc", "discrete sliding mode control with the nominal linear model";
-        /// DSMC with type-1 fuzzy compensation.
-        DsmcT1 = "dsmc_t1", "DSMC with learning type-1 fuzzy compensation";
-        /// DSMC with interval type-2 fuzzy compensation.
-        DsmcT2 = "dsmc_t2", "DSMC with learning interval type-2 fuzzy compensation";
-    }
-}
-
-/// PID gains of one axis.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct AxisGains {
-    /// K_p [N per error unit].
-    pub kp: f64,
-    /// K_i [N per error unit per s].
-    pub ki: f64,
-    /// K_d [N·s per error unit].
-    pub kd: f64,
-}
-
-/// Controller parameters. `Default`: the readings in the module doc, Table 1's nominal axes.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SlidingFuzzyParams {
-    /// Controller.
-    pub mode: ControlMode,
-    /// Sample period T [s].
-    pub sample_period: f64,
-    /// Force limit u_max [N].
-    pub force_limit: f64,
-    /// Sliding gain σ (normalised units).
-    pub sigma: f64,
-    /// k₁ of `s = e(k) + k₁e(k−1) + k₂e(k−2)`.
-    pub k1: f64,
-    /// k₂.
-    pub k2: f64,
-    /// Learning rate Ω.
-    pub learning_rate: f64,
-    /// Dead-zone parameter β (> 1).
-    pub dead_zone: f64,
-    /// Lower/upper width ratio r of the type-2 sets (1: no footprint of uncertainty).
-    pub fou_ratio: f64,
-    /// Karnik–Mendel type reduction instead of Eq. 25's closed form.
-    pub karnik_mendel: bool,
-    /// Floor h_min of ĥ (normalised).
-    pub h_min: f64,
-    /// Position normalisation X per axis [m].
-    pub position_scale: [f64; 2],
-    /// Velocity normalisation V per axis [m/s].
-    pub velocity_scale: [f64; 2],
-    /// Nominal masses [kg].
-    pub mass: [f64; 2],
-    /// Nominal damping [N·s/m].
-    pub damping: [f64; 2],
-    /// Nominal stiffness [N/m].
-    pub stiffness: [f64; 2],
-    /// D-PID gains, x axis.
-    pub pid_x: AxisGains,
-    /// D-PID gains, y axis.
-    pub pid_y: AxisGains,
-    /// D-PID error unit factor s_e (1000: error in mm).
-    pub pid_error_scale: f64,
-}
-
-impl Default for SlidingFuzzyParams {
-    fn default() -> Self {
-        SlidingFuzzyParams {
-            mode: ControlMode::DsmcT2,
-            sample_period: 1e-4,
-            force_limit: 2000.0,
-            sigma: 0.17,
-            k1: -1.0,
-            k2: 0.25,
-            learning_rate: 0.9,
-            dead_zone: 1.2,
-            fou_ratio: 0.8,
-            karnik_mendel: false,
-            h_min: 0.1,
-            position_scale: [0.5e-6, 0.5e-6],
-            velocity_scale: [3e-4, 9e-4],
-            mass: [20.0, 20.0],
-            damping: [1200.0, 4300.0],
-            stiffness: [7.2e6, 6.48e7],
-            pid_x: AxisGains { kp: 200.0, ki: 1500.0, kd: 84.0 },
-            pid_y: AxisGains { kp: 190.0, ki: 1400.0, kd: 76.0 },
-            pid_error_scale: 1000.0,
-        }
-    }
-}
-
-impl SlidingFuzzyParams {
-    /// Check ranges.
-    pub fn validate(&self) -> Result<(), SlidingFuzzyError> {
-        let bad = |w: &str| Err(SlidingFuzzyError::Params(w.to_string()));
-        let pos = |v: f64| v.is_finite() && v > 0.0;
-        if !pos(self.sample_period) || !pos(self.force_limit) {
-            return bad("sample period and force limit must be > 0");
-        }
-        if !self.sigma.is_finite() || self.sigma < 0.0 {
-            return bad("sigma must be finite and >= 0");
-        }
-        // λ² + k₁λ + k₂ stable (Jury): |k₂| < 1, |k₁| < 1 + k₂
-        if !(self.k1.is_finite() && self.k2.is_finite() && self.k2.abs() < 1.0 && self.k1.abs() < 1.0 + self.k2) {
-            return bad("lambda^2 + k1 lambda + k2 must have its roots inside the unit circle");
-        }
-        if !(self.learning_rate > 0.0 && self.learning_rate <= 1.0) {
-            return bad("learning rate must be in (0, 1]");
-        }
-        if !(self.dead_zone.is_finite() && self.dead_zone > 1.0) {
-            return bad("dead-zone parameter beta must be > 1");
-        }
-        if !(self.fou_ratio > 0.0 && self.fou_ratio <= 1.0) {
-            return bad("fou_ratio must be in (0, 1]");
-        }
-        if !pos(self.h_min) {
-            return bad("h_min must be > 0");
-        }
-        let all = self.position_scale.iter().chain(&self.velocity_scale).chain(&self.mass).chain(&self.stiffness);
-        if !all.copied().all(pos) || !self.damping.iter().all(|&c| c.is_finite() && c >= 0.0) {
-            return bad("scales, masses and stiffnesses must be > 0, damping >= 0");
-        }
-        let g = [self.pid_x, self.pid_y];
-        if !g.iter().flat_map(|g| [g.kp, g.ki, g.kd]).chain([self.pid_error_scale]).all(f64::is_finite) {
-            return bad("PID gains must be finite");
-        }
-        Ok(())
-    }
-}
 
 /// The fuzzy compensators of one channel.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -220,6 +87,9 @@ pub struct Channel {
     last: [f64; 5],
     /// Learning updates applied (outside the dead zone).
     updates: u64,
+    /// With the computation delay: the command computed at the last sample [N], which acts
+    /// from the next sample instant.
+    pending: f64,
 }
 
 /// Outputs of both channels after a sample.
@@ -251,7 +121,15 @@ fn sign(s: f64) -> f64 {
 
 impl Channel {
     fn new(p: &SlidingFuzzyParams, axis: usize) -> Self {
-        let model = zoh(p.mass[axis], p.damping[axis], p.stiffness[axis], p.sample_period);
+        let (m, c, k, t) = (p.mass[axis], p.damping[axis], p.stiffness[axis], p.sample_period);
+        let exact = zoh(m, c, k, t);
+        // the reading's A_dis; B_dis exact in every reading (see `crate::params`)
+        let a = match p.nominal_model {
+            NominalModel::ExactZoh => exact.a,
+            NominalModel::Euler => [[1.0, t], [-k / m * t, 1.0 - c / m * t]],
+            NominalModel::Identity => [[1.0, 0.0], [0.0, 1.0]],
+        };
+        let model = Discrete { a, b: exact.b };
         let red = if p.karnik_mendel { Reduction::KarnikMendel } else { Reduction::ClosedForm };
         let comp = match p.mode {
             ControlMode::DsmcT1 => Compensator::T1(T1System::new(3, 3), T1System::new(3, 2)),
@@ -276,6 +154,7 @@ impl Channel {
             em_prev: 0.0,
             last: [0.0, 0.0, 0.0, 1.0, 0.0],
             updates: 0,
+            pending: 0.0,
         }
     }
 
@@ -315,6 +194,8 @@ impl Channel {
         self.updates += 1;
     }
 
+    /// One sample: returns the force that acts over `[t_k, t_{k+1})` (the command of this
+    /// sample, or with the computation delay the one computed at the previous sample).
     fn sample(&mut self, p: &SlidingFuzzyParams, pos: f64, vel: f64) -> f64 {
         let u = match p.mode {
             ControlMode::Off => 0.0,
@@ -325,22 +206,17 @@ impl Channel {
                 let u =
                     g.kp * e + g.ki * p.sample_period * self.integral + g.kd / p.sample_period * (e - self.pid_prev);
                 self.pid_prev = e;
-                u
+                u.clamp(-p.force_limit, p.force_limit)
             }
-            _ => return self.sliding(p, pos, vel),
+            _ => self.sliding(p, pos, vel),
         };
-        let u = u.clamp(-p.force_limit, p.force_limit);
-        self.last[0] = u;
-        u
+        let acting = if p.computation_delay { std::mem::replace(&mut self.pending, u) } else { u };
+        self.last[0] = acting;
+        acting
     }
 
-    fn sliding(&mut self, p: &SlidingFuzzyParams, pos: f64, vel: f64) -> f64 {
-        let (pn, vn) = (pos / self.scale[0], vel / self.scale[1]);
-        self.learn(p, pn);
-        let e = -pn;
-        let s = e + p.k1 * self.e1 + p.k2 * self.e2;
-        let j_nom = (self.model.a[0][0] * pos + self.model.a[0][1] * vel) / self.scale[0];
-        let z = [e, -vn];
+    /// The controller's model at `z` with the nominal term `j_nom`: `(ĵ, ĥ, strengths)`.
+    fn model_at(&self, p: &SlidingFuzzyParams, j_nom: f64, z: [f64; 2]) -> (f64, f64, Option<Strengths>) {
         let (jf, hf, strengths) = match &self.comp {
             Compensator::None => (0.0, 0.0, None),
             Compensator::T1(fj, fh) => {
@@ -352,17 +228,49 @@ impl Channel {
                 (fj.output(&al, &ar), fh.output(&bl, &br), Some([al, ar, bl, br]))
             }
         };
-        let j_hat = j_nom + jf;
-        let h_hat = (1.0 + hf).max(p.h_min);
-        let un = (p.k1 * e + p.k2 * self.e1 + p.sigma * sign(s) - j_hat) / h_hat;
-        let u = (un * self.u_scale).clamp(-p.force_limit, p.force_limit);
-        let un = u / self.u_scale;
-        self.v_hat = j_hat + h_hat * un;
-        self.u_prev = un;
-        self.strengths = strengths;
+        (j_nom + jf, (1.0 + hf).max(p.h_min), strengths)
+    }
+
+    /// The nominal `j` of the state `(pos, vel)` [m, m/s] (normalised).
+    fn j_nominal(&self, pos: f64, vel: f64) -> f64 {
+        (self.model.a[0][0] * pos + self.model.a[0][1] * vel) / self.scale[0]
+    }
+
+    /// The sliding-mode law; returns the (limited) command computed at this sample [N].
+    fn sliding(&mut self, p: &SlidingFuzzyParams, pos: f64, vel: f64) -> f64 {
+        let (pn, vn) = (pos / self.scale[0], vel / self.scale[1]);
+        self.learn(p, pn);
+        let e = -pn;
+        let (j_hat, h_hat, strengths) = self.model_at(p, self.j_nominal(pos, vel), [e, -vn]);
+        let (u, s, j_hat, h_hat) = if p.computation_delay {
+            // the command on its way acts over [t_k, t_{k+1}): the one-step model predicts
+            // p(k+1) with it (and learns from it at the next sample); the law then acts on the
+            // predicted state, for the step from t_{k+1}
+            let (m, acting) = (self.model, self.pending);
+            let un_acting = acting / self.u_scale;
+            let p1 = j_hat + h_hat * un_acting;
+            let v1 = (m.a[1][0] * pos + m.a[1][1] * vel + m.b[1] * acting) / self.scale[1];
+            self.v_hat = p1;
+            self.u_prev = un_acting;
+            self.strengths = strengths;
+            let e1 = -p1;
+            let s = e1 + p.k1 * e + p.k2 * self.e1;
+            let (j1, h1, _) = self.model_at(p, self.j_nominal(p1 * self.scale[0], v1 * self.scale[1]), [e1, -v1]);
+            let un = (p.k1 * e1 + p.k2 * e + p.sigma * sign(s) - j1) / h1;
+            ((un * self.u_scale).clamp(-p.force_limit, p.force_limit), s, j1, h1)
+        } else {
+            let s = e + p.k1 * self.e1 + p.k2 * self.e2;
+            let un = (p.k1 * e + p.k2 * self.e1 + p.sigma * sign(s) - j_hat) / h_hat;
+            let u = (un * self.u_scale).clamp(-p.force_limit, p.force_limit);
+            let un = u / self.u_scale;
+            self.v_hat = j_hat + h_hat * un;
+            self.u_prev = un;
+            self.strengths = strengths;
+            (u, s, j_hat, h_hat)
+        };
         self.e2 = self.e1;
         self.e1 = e;
-        self.last[..4].copy_from_slice(&[u, s, j_hat, h_hat]);
+        self.last[1..4].copy_from_slice(&[s, j_hat, h_hat]);
         u
     }
 
@@ -372,7 +280,7 @@ impl Channel {
             Compensator::T1(a, b) => a.w.iter().chain(&b.w).copied().collect(),
             Compensator::T2(a, b) => a.wl.iter().chain(&a.wr).chain(&b.wl).chain(&b.wr).copied().collect(),
         };
-        [self.e1, self.e2, self.integral, self.pid_prev, self.u_prev, self.v_hat, self.em_prev]
+        [self.e1, self.e2, self.integral, self.pid_prev, self.u_prev, self.v_hat, self.em_prev, self.pending]
             .iter()
             .chain(&self.last)
             .chain(&w)
@@ -534,6 +442,76 @@ mod tests {
         // and the position ends in the chattering band: e oscillates with amplitude σ/(1−k₁+k₂)
         let band = p.sigma / (1.0 - p.k1 + p.k2) * p.position_scale[0];
         assert!(v[0][0].abs() <= band * 1.01 && v[1][0].abs() <= band * 1.01, "{v:?}, band {band}");
+    }
+
+    /// With one sample of computation delay the command of sample k acts from t_(k+1): the
+    /// law on the predicted state keeps the true s(k+1) in the band |s| <= σ (exact model
+    /// terms, linear plant driven by the force the controller says acts now).
+    #[test]
+    fn dsmc_with_a_computation_delay_reaches_its_band_through_its_prediction() {
+        let p = SlidingFuzzyParams {
+            mode: ControlMode::Dsmc,
+            force_limit: 1e12,
+            computation_delay: true,
+            ..Default::default()
+        };
+        let mut c = SlidingFuzzy::new(&p).unwrap();
+        let d = [zoh(20.0, 1200.0, 7.2e6, 1e-4), zoh(20.0, 4300.0, 6.48e7, 1e-4)];
+        let mut v = [[0.4e-3, -20e-3], [-0.3e-3, 50e-3]];
+        let (mut e, mut max_s) = (Vec::new(), 0.0f64);
+        for k in 0..400 {
+            let o = c.sample([v[0][0], v[1][0]], [v[0][1], v[1][1]]).unwrap();
+            e.push(-v[0][0] / p.position_scale[0]);
+            // the true sliding variable of the x channel from the measured errors
+            if k >= 4 {
+                let n = e.len();
+                let s = e[n - 1] + p.k1 * e[n - 2] + p.k2 * e[n - 3];
+                max_s = max_s.max((s.abs() - p.sigma).max(0.0));
+            }
+            if k == 0 {
+                assert_eq!(o.u, [0.0, 0.0], "nothing acts before the first command arrives");
+            }
+            for ((va, m), u) in v.iter_mut().zip(&d).zip(o.u) {
+                let x = m.a[0][0] * va[0] + m.a[0][1] * va[1] + m.b[0] * u;
+                let y = m.a[1][0] * va[0] + m.a[1][1] * va[1] + m.b[1] * u;
+                *va = [x, y];
+            }
+        }
+        assert!(max_s < 1e-9, "|s| exceeded sigma by {max_s}");
+        let band = p.sigma / (1.0 - p.k1 + p.k2) * p.position_scale[0];
+        assert!(v[0][0].abs() <= band * 1.01 && v[1][0].abs() <= band * 1.01, "{v:?}, band {band}");
+    }
+
+    #[test]
+    fn the_nominal_models_are_the_documented_matrices() {
+        let (m, c, k, t) = (20.0, 1200.0, 7.2e6, 3e-4);
+        let exact = zoh(m, c, k, t);
+        let of = |nominal_model| {
+            let p = SlidingFuzzyParams { nominal_model, sample_period: t, ..Default::default() };
+            SlidingFuzzy::new(&p).unwrap().ch[0].model
+        };
+        assert_eq!(of(NominalModel::ExactZoh), exact);
+        let euler = of(NominalModel::Euler);
+        assert_eq!(euler.a, [[1.0, t], [-k / m * t, 1.0 - c / m * t]]);
+        assert_eq!(of(NominalModel::Identity).a, [[1.0, 0.0], [0.0, 1.0]]);
+        // B_dis (the input normalisation) is the exact one in every reading
+        for n in [NominalModel::Euler, NominalModel::Identity] {
+            assert_eq!(of(n).b, exact.b);
+        }
+    }
+
+    #[test]
+    fn the_delayed_dpid_is_the_immediate_one_a_sample_later() {
+        let p = SlidingFuzzyParams { mode: ControlMode::Dpid, force_limit: 1e9, ..Default::default() };
+        let mut now = SlidingFuzzy::new(&p).unwrap();
+        let mut late = SlidingFuzzy::new(&SlidingFuzzyParams { computation_delay: true, ..p }).unwrap();
+        let mut previous = [0.0; 2];
+        for k in 0..50 {
+            let x = [1e-6 * (k as f64 * 0.3).sin(), -2e-6 * (k as f64 * 0.2).cos()];
+            let a = now.sample(x, [0.0; 2]).unwrap().u;
+            assert_eq!(late.sample(x, [0.0; 2]).unwrap().u, previous, "sample {k}");
+            previous = a;
+        }
     }
 
     #[test]

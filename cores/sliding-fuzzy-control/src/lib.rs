@@ -8,6 +8,8 @@
 //!   exponential) with its slow reference;
 //! * [`fuzzy`]: Gaussian membership-function grids, the type-1 fuzzy system, the interval type-2
 //!   system with the seed's closed-form type reduction (Eq. 25) and Karnik–Mendel as an option;
+//! * [`params`]: the parameters, with the readings of the nominal model (`A_dis`, unknown in
+//!   Eq. 22) and of the computation delay;
 //! * [`controller`]: the per-axis controllers `dpid` (Eq. 62), `dsmc` (Eqs. 35–38), `dsmc_t1`
 //!   and `dsmc_t2` (Eqs. 26–31 with the dead-zone learning law), two channels (x and y);
 //! * [`closed_loop`]: tool and controller coupled at the sample period, the loop the study runs.
@@ -18,10 +20,12 @@ pub mod closed_loop;
 pub mod controller;
 pub mod fuzzy;
 pub mod linear;
+pub mod params;
 
-pub use closed_loop::{LoopRecord, simulate};
-pub use controller::{AxisGains, ControlMode, ControllerOutputs, SlidingFuzzy, SlidingFuzzyParams};
+pub use closed_loop::{LoopRecord, simulate, simulate_coupled};
+pub use controller::{ControllerOutputs, SlidingFuzzy};
 pub use fuzzy::{Reduction, T1System, T2System};
+pub use params::{AxisGains, ControlMode, NominalModel, SlidingFuzzyParams};
 pub use tool_xy::{ToolError, ToolInputs, ToolOutputs, ToolParams, ToolPlant};
 
 /// What can go wrong in this crate.

@@ -12,6 +12,7 @@
 //! | seed 004 (FROH force control) | `chatter froh` |
 //! | your own machine (a machine file) | `chatter machine`, `chatter lobes --machine`, `chatter tune --machine` |
 //! | studies as cases, on many machines | `chatter plan`, `chatter run`, `chatter collect` |
+//! | every shipped system under both coupling orders | `chatter coupling-order` |
 //!
 //! Gains are force-equivalent SI values (`u` in N, `y` in m); `--adrc` takes the FOPID gains of
 //! the ADRC loop in the same force units (converted by `b0` as in `chatter_control::params`).
@@ -21,6 +22,7 @@ mod afrac;
 mod cases;
 mod check;
 mod common;
+mod coupling;
 mod decomposed;
 mod dsmc;
 mod frf;
@@ -64,6 +66,8 @@ enum Cmd {
     Dsmc(dsmc::DsmcArgs),
     /// Seed 004: FROH zero locus, non-minimum-phase boundary and the J(beta) sweep for three chip-lag readings.
     Froh(froh::FrohArgs),
+    /// Every shipped system (target/fmu/*.ssp) under Gauss-Seidel and Jacobi coupling: the headline metric of each, differences > 5 % flagged.
+    CouplingOrder(coupling::CouplingArgs),
     /// Seed 000 Table 7 and Figures 11-13: the robustness sample (19 points x 2 noise seeds), through the FMUs.
     Robustness(seed000::robustness::RobustnessSpec),
     /// Seed 000 Figure 15: the feed or radial-engagement sweep through the FMUs, with the harmonic-balance and closed-form checks.
@@ -123,6 +127,7 @@ fn run(cli: &Cli) -> Result<()> {
         Cmd::Decomposed(a) => decomposed::decomposed(a),
         Cmd::DepthStudy(s) => report(s.run_local()?, &s.out.join("depth_study.md"), "depth_study.csv"),
         Cmd::Froh(a) => froh::froh(a),
+        Cmd::CouplingOrder(a) => coupling::coupling_order(a),
         Cmd::Afrac(a) => afrac::afrac(a),
         Cmd::AfracGa(a) => afrac::afrac_ga(a),
         Cmd::Dsmc(a) => dsmc::dsmc(a),

@@ -1,6 +1,6 @@
 //! Seed 004 study: `chatter froh --quick` and the library's boundary and sweep.
 
-use seed004::froh::{self, FrohStudy};
+use seed004::froh::{self, FrohStudy, Target};
 use std::process::Command;
 
 #[test]
@@ -13,7 +13,7 @@ fn the_nmp_boundary_moves_down_with_the_chip_lag() {
         let b = s.nmp_boundary.unwrap();
         assert!((b - e).abs() <= 0.05, "{reading}: {b}");
         // the locus agrees: stable zero just above the boundary, unstable just below
-        let l = froh::zero_locus(reading, tau_c, &[b + 0.01, b - 0.01]).unwrap();
+        let l = froh::zero_locus(reading, tau_c, 1e-4, &[b + 0.01, b - 0.01]).unwrap();
         assert!(l[0].modulus < 1.0 && l[1].modulus > 1.0, "{l:?}");
     }
 }
@@ -63,4 +63,53 @@ fn beta_values_whose_initial_model_is_non_minimum_phase_are_left_out() {
     let (pts, s) = froh::sweep(&o, reading, tau_c).unwrap();
     assert_eq!(pts.len(), 1);
     assert!(pts[0].beta.abs() < 1e-12 && s.argmin.abs() < 1e-12);
+}
+
+/// J's target decides the sign of the best β: against the continuous reference model's
+/// response to the F_ref step (the same for every β) the best β is negative for all three τ_c
+/// readings and β = −0.2 beats the ZOH (the paper's claim); against the reference model driven
+/// by the FROH of F_ref (which changes with β) it is positive. At β = 0 the two targets are the
+/// same signal (to rounding: the controller propagates on its own step lengths).
+#[test]
+fn the_sign_of_the_best_beta_depends_on_the_target_of_j() {
+    let betas = vec![-0.6, -0.4, -0.2, 0.0, 0.4, 0.8];
+    for (reading, tau_c) in froh::tau_c_readings() {
+        let o = |target| FrohStudy { betas: betas.clone(), duration: 3.0, target, ..Default::default() };
+        let (step, s) = froh::sweep(&o(Target::Step), reading, tau_c).unwrap();
+        assert!(s.argmin < 0.0 && s.j_m02 < s.j0, "{reading}: {s:?}");
+        let (fr, f) = froh::sweep(&o(Target::Froh), reading, tau_c).unwrap();
+        assert!(f.argmin > 0.0, "{reading}: {f:?}");
+        let at0 = |v: &[froh::SweepPoint]| v.iter().find(|p| p.beta == 0.0).unwrap().j;
+        assert!((at0(&step) / at0(&fr) - 1.0).abs() < 1e-12, "{reading}: {} vs {}", at0(&step), at0(&fr));
+    }
+}
+
+/// The initial model θ₀ (not printed in the paper) moves the best β across zero under both
+/// targets: at τ_c = T/2, K̂ = 0.5 K_p puts it above zero against the FROH target and below
+/// against the step target, K̂ = 2 K_p the other way round. `chatter froh --theta0 --quick`
+/// writes the grid (2 targets × 4 gains × 4 time constants × 3 readings).
+#[test]
+fn the_sign_of_the_best_beta_depends_on_the_initial_model() {
+    let o = FrohStudy { betas: vec![-0.6, -0.4, -0.2, 0.0, 0.4, 0.8], duration: 3.0, ..Default::default() };
+    let rows = froh::theta0_sensitivity(&o, &[0.5, 2.0], &[1.5]).unwrap();
+    let argmin = |target, g: f64| {
+        let r = rows
+            .iter()
+            .find(|r| r.target == target && (r.gain_factor - g).abs() < 1e-12 && r.reading == "T/2")
+            .unwrap();
+        r.summary.as_ref().unwrap().argmin
+    };
+    assert!(argmin(Target::Froh, 0.5) > 0.0 && argmin(Target::Froh, 2.0) < 0.0, "{rows:?}");
+    assert!(argmin(Target::Step, 0.5) < 0.0 && argmin(Target::Step, 2.0) > 0.0, "{rows:?}");
+    let d = std::env::temp_dir().join(format!("chatter-froh-theta0-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let out = Command::new(env!("CARGO_BIN_EXE_chatter"))
+        .args(["froh", "--theta0", "--quick", "--out", d.to_str().unwrap()])
+        .output()
+        .expect("run chatter");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(d.join("froh_theta0.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 2 * 4 * 4 * 3, "{csv}");
+    assert_eq!(std::fs::read_to_string(d.join("froh_theta0.md")).unwrap().lines().count(), 2 + 2 * 4 * 4);
+    std::fs::remove_dir_all(&d).unwrap();
 }

@@ -9,16 +9,33 @@
 //! * the **J(β) sweep** of Section V: the adaptive loop ([`froh_mrac::simulate`], plant and
 //!   controller cores, communication step `T/M`) with `F_ref` = 1.2 kN on the depth profile, and
 //!   `J = ∫|F_p − F_m| dt` over the first 30 spindle periods (2.52 s, before the first depth
-//!   step) by the trapezoidal rule on the communication grid, `F_m` the continuous reference
-//!   model driven by the FROH of `F_ref`. Also J over 30 periods after each depth step and the
-//!   overshoot `(max F_p − F_ref)/F_ref` in each depth segment.
+//!   step) by the trapezoidal rule on the communication grid. Also J over 30 periods after each
+//!   depth step and the overshoot `(max F_p − F_ref)/F_ref` in each depth segment.
+//!
+//! **The target `F_m` of J** is not given beyond "the continuous model reference system
+//! response" ([`Target`]): the continuous reference model driven by the FROH of `F_ref` (the
+//! controller's own `F_m`, which changes with β: default, the reading the study started with),
+//! or its response to the `F_ref` step (the same for every β). At β = 0 the two coincide.
 //!
 //! The controller's initial model is the reading `K̂ = 0.5 K_p(2 mm)`, `τ̂ = 1.5 τ_c` (with the
-//! τ_c of the reading; both factors are options), λ = 0.98, P₀ = 100 I.
+//! τ_c of the reading; both factors are options), λ = 0.98, P₀ = 100 I; at β = 0 RLS estimates
+//! the ZOH model's two parameters (`estimate_b1_at_zoh`: three, the former reading).
 
 use froh_mrac::{ForceError, LoopSample, MracParams, simulate};
 use milling_force_plant::ForcePlantParams;
-use milling_force_plant::froh::{self, DiscreteTf};
+use milling_force_plant::froh::{self, DiscreteTf, RampPropagator, StateSpace};
+use model_kit::Choice;
+use nalgebra::DVector;
+
+model_kit::choice! {
+    /// What J compares the force with.
+    pub enum Target ("Target", "the reference force F_m of the cost J") {
+        /// The continuous reference model driven by the FROH of F_ref (changes with β).
+        Froh = "froh", "the continuous reference model driven by the FROH of F_ref (the controller's F_m; changes with beta)";
+        /// The continuous reference model's response to the F_ref step (the same for every β).
+        Step = "step", "the continuous reference model's response to the F_ref step (the same for every beta)";
+    }
+}
 
 /// The chip-lag readings: (name, τ_c) for the default plant.
 pub fn tau_c_readings() -> Vec<(&'static str, f64)> {
@@ -118,6 +135,12 @@ pub struct FrohStudy {
     pub gain_factor: f64,
     /// Initial model: τ̂ as a multiple of τ_c (paper reading 1.5).
     pub tau_factor: f64,
+    /// The target of J.
+    pub target: Target,
+    /// The plant's CNC lag τ_s [s] (printed 0.1 ms).
+    pub tau_s: f64,
+    /// At β = 0 estimate three parameters `(a, b₀, b₁)` instead of the ZOH model's two.
+    pub estimate_b1_at_zoh: bool,
 }
 
 impl Default for FrohStudy {
@@ -131,6 +154,9 @@ impl Default for FrohStudy {
             periods: 30,
             gain_factor: 0.5,
             tau_factor: 1.5,
+            target: Target::Froh,
+            tau_s: ForcePlantParams::default().tau_s,
+            estimate_b1_at_zoh: false,
         }
     }
 }
@@ -144,6 +170,27 @@ pub fn cost(run: &[LoopSample], t0: f64, len: f64) -> f64 {
         .sum()
 }
 
+/// The run with `F_m` replaced by the continuous reference model's response to the `F_ref`
+/// step, propagated exactly on the run's grid (the controller's propagator: at β = 0 the result
+/// is the FROH target to rounding).
+pub fn with_step_target(run: &[LoopSample], ctrl: &MracParams, f_ref: f64) -> Result<Vec<LoopSample>, ForceError> {
+    let sys = StateSpace::second_order(ctrl.zeta, ctrl.omega_n);
+    let mut x = DVector::zeros(2);
+    let mut cache: Option<(u64, RampPropagator)> = None;
+    let mut out = Vec::with_capacity(run.len());
+    for (i, s) in run.iter().enumerate() {
+        if i > 0 {
+            let h = s.t - run[i - 1].t;
+            if cache.as_ref().is_none_or(|c| c.0 != h.to_bits()) {
+                cache = Some((h.to_bits(), RampPropagator::new(&sys, h)?));
+            }
+            x = cache.as_ref().expect("just set").1.propagate(&x, f_ref, 0.0);
+        }
+        out.push(LoopSample { reference_force: x[0], ..*s });
+    }
+    Ok(out)
+}
+
 /// `T Σ |F_p − F_m|` over the samples `t_k = kT` in `[t0, t0 + len)` (`substeps` points per T).
 pub fn sampled_cost(run: &[LoopSample], substeps: u32, t: f64, t0: f64, len: f64) -> f64 {
     run.iter()
@@ -153,9 +200,9 @@ pub fn sampled_cost(run: &[LoopSample], substeps: u32, t: f64, t0: f64, len: f64
         .sum()
 }
 
-/// The zero locus of the plant (at 2 mm) for one τ_c.
-pub fn zero_locus(reading: &'static str, tau_c: f64, betas: &[f64]) -> Result<Vec<ZeroPoint>, ForceError> {
-    let p = ForcePlantParams { tau_c, ..Default::default() };
+/// The zero locus of the plant (at 2 mm) for one τ_c and the CNC lag τ_s.
+pub fn zero_locus(reading: &'static str, tau_c: f64, tau_s: f64, betas: &[f64]) -> Result<Vec<ZeroPoint>, ForceError> {
+    let p = ForcePlantParams { tau_c, tau_s, ..Default::default() };
     let sys = p.model(2.0);
     betas
         .iter()
@@ -168,16 +215,21 @@ pub fn zero_locus(reading: &'static str, tau_c: f64, betas: &[f64]) -> Result<Ve
 
 /// One adaptive run of the sweep.
 pub fn sweep_point(o: &FrohStudy, reading: &'static str, tau_c: f64, beta: f64) -> Result<SweepPoint, ForceError> {
-    let plant = ForcePlantParams { tau_c, ..Default::default() };
+    let plant = ForcePlantParams { tau_c, tau_s: o.tau_s, ..Default::default() };
     let ctrl = MracParams {
         beta,
         gain_estimate: o.gain_factor * plant.gain(plant.depth.b[0]),
         tau_estimate: o.tau_factor * tau_c,
+        estimate_b1_at_zoh: o.estimate_b1_at_zoh,
         ..Default::default()
     };
     let t = ctrl.sample_period;
     let steps = (o.duration / t * o.substeps as f64).round() as usize;
-    let run = simulate(&plant, &ctrl, o.f_ref, o.substeps, steps)?;
+    let target = |run: Vec<LoopSample>| match o.target {
+        Target::Froh => Ok(run),
+        Target::Step => with_step_target(&run, &ctrl, o.f_ref),
+    };
+    let run = target(simulate(&plant, &ctrl, o.f_ref, o.substeps, steps)?)?;
     let len = o.periods as f64 * t;
     let d = &plant.depth;
     let n = d.segments as usize;
@@ -194,7 +246,7 @@ pub fn sweep_point(o: &FrohStudy, reading: &'static str, tau_c: f64, beta: f64) 
     let last = run.last().expect("at least the start").controller;
     let exact = MracParams { adapt: false, gain_estimate: plant.gain(d.b[0]), tau_estimate: tau_c, ..ctrl };
     let first = (len / t * o.substeps as f64).round() as usize;
-    let j_true_model = cost(&simulate(&plant, &exact, o.f_ref, o.substeps, first)?, 0.0, len);
+    let j_true_model = cost(&target(simulate(&plant, &exact, o.f_ref, o.substeps, first)?)?, 0.0, len);
     Ok(SweepPoint {
         reading,
         beta,
@@ -227,7 +279,7 @@ pub fn sweep(
     if pts.is_empty() {
         return Err(ForceError::Design(format!("no β of the grid can start for τ_c = {tau_c}")));
     }
-    let p = ForcePlantParams { tau_c, ..Default::default() };
+    let p = ForcePlantParams { tau_c, tau_s: o.tau_s, ..Default::default() };
     let nmp_boundary = froh::nmp_boundary(&p.model(2.0), p.spindle_period(), -1.0, 0.0)?;
     let best = pts.iter().min_by(|a, b| a.j.total_cmp(&b.j)).expect("a non-empty grid");
     let at = |beta: f64| pts.iter().find(|s| (s.beta - beta).abs() < 1e-9);
@@ -312,6 +364,80 @@ pub fn summary_markdown(rows: &[ReadingSummary]) -> String {
             r.sampled.1,
             r.sampled.2
         );
+    }
+    s
+}
+
+/// One cell of the θ₀ sensitivity: the sweep's result for one target, initial model and τ_c
+/// reading (`None`: no β of the grid can start from this initial model).
+#[derive(Clone, Debug)]
+pub struct Theta0Row {
+    /// The target of J.
+    pub target: Target,
+    /// K̂ / K_p(2 mm).
+    pub gain_factor: f64,
+    /// τ̂ / τ_c.
+    pub tau_factor: f64,
+    /// τ_c reading.
+    pub reading: &'static str,
+    /// The sweep's summary.
+    pub summary: Option<ReadingSummary>,
+}
+
+/// The sweep for every target × initial model (`K̂ = g K_p(2 mm)`, `τ̂ = f τ_c`) × τ_c reading:
+/// the initial model θ₀ is not printed in the paper.
+pub fn theta0_sensitivity(o: &FrohStudy, gains: &[f64], taus: &[f64]) -> Result<Vec<Theta0Row>, ForceError> {
+    let mut rows = Vec::new();
+    for target in [Target::Froh, Target::Step] {
+        for &gain_factor in gains {
+            for &tau_factor in taus {
+                let s = FrohStudy { target, gain_factor, tau_factor, ..o.clone() };
+                for (reading, tau_c) in tau_c_readings() {
+                    let summary = match sweep(&s, reading, tau_c) {
+                        Ok((_, r)) => Some(r),
+                        Err(ForceError::Design(_)) => None,
+                        Err(e) => return Err(e),
+                    };
+                    rows.push(Theta0Row { target, gain_factor, tau_factor, reading, summary });
+                }
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The θ₀ sensitivity as a Markdown table: one row per target and initial model, the argmin
+/// and J(−0.2)/J(0) per τ_c reading.
+pub fn theta0_markdown(rows: &[Theta0Row]) -> String {
+    let readings = tau_c_readings();
+    let mut s = String::from("| J target | K̂/K_p | τ̂/τ_c |");
+    for (r, _) in &readings {
+        s += &format!(" {r}: argmin, J(−0.2)/J(0) |");
+    }
+    s += "\n|---|---|---|";
+    s += &"---|".repeat(readings.len());
+    for chunk in rows.chunks(readings.len()) {
+        let h = &chunk[0];
+        s += &format!("\n| {} | {} | {} |", h.target.name(), h.gain_factor, h.tau_factor);
+        for r in chunk {
+            s += &match &r.summary {
+                Some(x) => format!(" {:.2}, {:.3} |", x.argmin, x.j_m02 / x.j0),
+                None => " no β starts |".into(),
+            };
+        }
+    }
+    s + "\n"
+}
+
+/// The θ₀ sensitivity as CSV.
+pub fn theta0_csv(rows: &[Theta0Row]) -> String {
+    let mut s = String::from("target,gain_factor,tau_factor,reading,argmin,J_argmin,J0,J_m02\n");
+    for r in rows {
+        let v = r
+            .summary
+            .as_ref()
+            .map_or(",,,".into(), |x| format!("{},{:.9},{:.9},{:.9}", x.argmin, x.j_min, x.j0, x.j_m02));
+        s += &format!("{},{},{},{},{v}\n", r.target.name(), r.gain_factor, r.tau_factor, r.reading);
     }
     s
 }
