@@ -136,18 +136,16 @@ fn plan_main_job(
 /// The case IDs of the study in `dir`, in manifest order.
 /// Fit modes to measured FRF files: (modes CSV, stabilisation CSV, the report, the machine
 /// file's `[structure]` table, the band \[Hz\]).
+/// (modes CSV, stabilisation CSV, report, `[structure]` TOML, band).
+type FitTexts = (String, String, String, String, (f64, f64));
+
 #[pyfunction]
 #[pyo3(signature = (files, band=None, max_order=40))]
-fn fit_frf(
-    py: Python<'_>,
-    files: Vec<PathBuf>,
-    band: Option<(f64, f64)>,
-    max_order: usize,
-) -> PyResult<(String, String, String, String, (f64, f64))> {
+fn fit_frf(py: Python<'_>, files: Vec<PathBuf>, band: Option<(f64, f64)>, max_order: usize) -> PyResult<FitTexts> {
     py.detach(|| {
         let frf = machine::frf::MeasuredFrf::read(&files).map_err(|e| e.to_string())?;
-        let o = machine::frf::fit::FitOptions { band_hz: band, max_order };
-        let f = machine::frf::fit::fit(&frf, &o).map_err(|e| format!("{}: {e}", frf.source))?;
+        let o = machine::frf_fit::FitOptions { band_hz: band, max_order };
+        let f = machine::frf_fit::fit(&frf, &o).map_err(|e| format!("{}: {e}", frf.source))?;
         let names: Vec<String> = files
             .iter()
             .map(|p| p.canonicalize().map(|c| c.display().to_string()).map_err(|e| format!("{}: {e}", p.display())))
@@ -365,8 +363,8 @@ impl Machine {
         max_hz: f64,
         binary: bool,
     ) -> PyResult<()> {
-        let t = machine::frf::synth::TapTest { range_hz: (0.0, max_hz), resolution_hz: resolution, noise, seed };
-        let frf = machine::frf::synth::tap_test(&self.m, &t).map_err(ChatterError::new_err)?;
+        let t = machine::frf_fit::synth::TapTest { range_hz: (0.0, max_hz), resolution_hz: resolution, noise, seed };
+        let frf = machine::frf_fit::synth::tap_test(&self.m, &t).map_err(ChatterError::new_err)?;
         machine::frf::write_new(&frf, &path, binary).map_err(err)
     }
 

@@ -93,7 +93,7 @@ impl Frfs {
         if self.freq_hz.len() < 8 {
             return bad(format!("{} frequencies: too few to fit", self.freq_hz.len()));
         }
-        if !self.freq_hz.windows(2).all(|w| w[1] > w[0]) || !(self.freq_hz[0] >= 0.0) {
+        if !self.freq_hz.windows(2).all(|w| w[1] > w[0]) || self.freq_hz[0].is_nan() || self.freq_hz[0] < 0.0 {
             return bad("the frequencies must be non-negative and increasing".into());
         }
         if self.outputs.is_empty() {

@@ -54,7 +54,7 @@ pub fn modes(res: &Residues, pairs: &[Pair]) -> Vec<Mode> {
     for (r, pole) in res.poles.iter().enumerate() {
         let wd = pole.0.im;
         let prod = |o: usize| num_complex::Complex64::new(0.0, 2.0 * wd) * res.residues[o][r];
-        let driving = |d: usize| find((d, d)).map(|o| prod(o));
+        let driving = |d: usize| find((d, d)).map(&prod);
         let cross = {
             let v: Vec<_> = [(0, 1), (1, 0)].iter().filter_map(|&p| find(p)).map(|o| prod(o).re).collect();
             (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)

@@ -5,9 +5,10 @@
 use anyhow::{Context, Result, ensure};
 use clap::{Args, Subcommand};
 use machine::Machine;
-use machine::frf::fit::{FitOptions, fit};
-use machine::frf::synth::{TapTest, tap_test};
-use machine::frf::{MeasuredFrf, csv, plots};
+use machine::frf::{MeasuredFrf, csv};
+use machine::frf_fit::plots;
+use machine::frf_fit::synth::{TapTest, tap_test};
+use machine::frf_fit::{FitOptions, fit};
 use std::path::{Path, PathBuf};
 
 #[derive(Subcommand)]

@@ -20,6 +20,7 @@
 pub mod closed;
 pub mod fmus;
 pub mod frf;
+pub mod frf_fit;
 pub mod lobes;
 pub mod machine;
 pub mod models;

@@ -237,17 +237,6 @@ impl Machine {
         }
     }
 
-    /// An error unless the structure has modes (a machine given by measured FRFs alone has
-    /// zero-order lobes from the data; everything else needs modes).
-    pub fn require_modes(&self, what: &str) -> Result<(), crate::models::ModelError> {
-        if self.modes.is_empty() {
-            return Err(crate::models::ModelError::Unsupported(format!(
-                "{what} needs the structure's modes, and this machine file gives measured FRFs only: fit them first (`chatter frf fit --machine <this file>` writes a machine file with the fitted modes)"
-            )));
-        }
-        Ok(())
-    }
-
     /// The highest natural frequency \[Hz\].
     pub fn highest_mode_hz(&self) -> f64 {
         self.modes.iter().map(|m| m.frequency_hz).fold(0.0, f64::max)

@@ -33,6 +33,17 @@ pub enum ModelError {
 }
 
 impl Machine {
+    /// An error unless the structure has modes (a machine given by measured FRFs alone has
+    /// zero-order lobes from the data; everything else needs modes).
+    pub fn require_modes(&self, what: &str) -> Result<(), ModelError> {
+        if self.modes.is_empty() {
+            return Err(ModelError::Unsupported(format!(
+                "{what} needs the structure's modes, and this machine file gives measured FRFs only: fit them first (`chatter frf fit --machine <this file>` writes a machine file with the fitted modes)"
+            )));
+        }
+        Ok(())
+    }
+
     /// The modes with mass-normalised shapes at the tool point (`s/√m`); the actuator/sensor
     /// point is the tool point.
     pub fn mode_shapes(&self) -> Vec<ModeShape> {

@@ -7,8 +7,8 @@
 
 use fmi_master::{Override, Progress, Recorder, RunConfig, Simulation, SystemFile};
 use machine::Machine;
-use machine::frf::fit::{FitOptions, fit};
-use machine::frf::synth::{TapTest, tap_test};
+use machine::frf_fit::synth::{TapTest, tap_test};
+use machine::frf_fit::{FitOptions, fit};
 use model_description::Value;
 use num_complex::Complex64;
 use std::f64::consts::PI;

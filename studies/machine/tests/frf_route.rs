@@ -4,8 +4,8 @@
 //! modes agree within 3 % over the speed range.
 
 use machine::Machine;
-use machine::frf::fit::{FitOptions, fit};
-use machine::frf::synth::{TapTest, tap_test};
+use machine::frf_fit::synth::{TapTest, tap_test};
+use machine::frf_fit::{FitOptions, fit};
 use machine::lobes::MeasuredLobes;
 use machine::workflow::speeds;
 

@@ -1,6 +1,6 @@
 //! Measured tool-point FRFs: a tap test's `xx`, `xy`, `yx`, `yy` as receptances in m/N on one
 //! frequency grid, read from and written to CSV ([`csv`]) and UFF 58 ([`uff`], ASCII and
-//! binary), fitted to modes ([`fit`]) and used directly as the receptance of the zero-order
+//! binary), fitted to modes ([`crate::frf_fit`]) and used directly as the receptance of the zero-order
 //! lobes ([`MeasuredReceptance`]).
 //!
 //! # Units
@@ -17,9 +17,6 @@
 //! reciprocity (`yx = xy`); with neither, the cross terms are zero and every result says so.
 
 pub mod csv;
-pub mod fit;
-pub mod plots;
-pub mod synth;
 pub mod uff;
 
 use delay_stability::frequency::Receptance;

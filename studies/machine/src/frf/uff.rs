@@ -26,7 +26,6 @@
 
 use super::{FrfError, Kind, MeasuredFrf, Pair, check_rows, frf_unit, to_receptance};
 use num_complex::Complex64;
-use std::fmt::Write as _;
 
 /// Byte reader with line numbers.
 struct Cursor<'a> {
@@ -59,10 +58,6 @@ fn is_delimiter(l: &str) -> bool {
 fn field(l: &str, a: usize, b: usize) -> &str {
     let b = b.min(l.len());
     if a >= b { "" } else { l.get(a..b).unwrap_or("").trim() }
-}
-
-fn fortran_f64(s: &str) -> Option<f64> {
-    s.trim().replace(['D', 'd'], "e").parse().ok()
 }
 
 /// What a dataset 58 header says.
@@ -394,7 +389,7 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<MeasuredFrf, FrfError> {
                     }
                     let x =
                         fortran_f64(s).ok_or_else(|| FrfError::at(file, Some(n), format!("{s:?} is not a number")))?;
-                    if values.len() % values_per_point == 0 {
+                    if values.len().is_multiple_of(values_per_point) {
                         line_of_point.push(n);
                     }
                     values.push(x);
@@ -513,200 +508,11 @@ pub fn parse(bytes: &[u8], file: &str) -> Result<MeasuredFrf, FrfError> {
     Ok(m)
 }
 
-/// A number as Fortran `E<w>.<d>` the way C prints it (`-1.23456e-07`), right-aligned.
-fn e(x: f64, width: usize, digits: usize) -> String {
-    let s = format!("{x:.digits$e}");
-    let (mant, exp) = s.split_once('e').expect("e format");
-    let exp: i32 = exp.parse().expect("exponent");
-    format!("{:>width$}", format!("{mant}e{}{:02}", if exp < 0 { '-' } else { '+' }, exp.abs()))
-}
-
-/// Does `x` survive `E13.5`?
-fn fits_e13(x: f64) -> bool {
-    fortran_f64(&e(x, 13, 5)) == Some(x)
-}
-
-/// The FRFs as a universal file: one dataset 58 (ASCII, or binary 58b) per pair.
-pub fn write(frf: &MeasuredFrf, title: &str, binary: bool) -> Vec<u8> {
-    let f = &frf.freq_hz;
-    let n = f.len();
-    let dx = (f[n - 1] - f[0]) / (n - 1) as f64;
-    let uniform = f.windows(2).all(|w| ((w[1] - w[0]) - dx).abs() <= 1e-9 * dx.abs());
-    // the even form stores only start and step, in E13.5
-    let even = uniform && fits_e13(f[0]) && fits_e13(dx);
-    let mut out = Vec::new();
-    for (pair, h) in &frf.h {
-        let mut t = String::new();
-        let values_per_point = if even { 2 } else { 3 };
-        let nb = n * values_per_point * 8;
-        t.push_str("    -1\n");
-        if binary {
-            let _ = writeln!(t, "    58b{:6}{:6}{:12}{:12}{:6}{:6}{:12}{:12}", 1, 2, 11, nb, 0, 0, 0, 0);
-        } else {
-            let _ = writeln!(t, "    58{:74}", "");
-        }
-        let id = |s: &str| format!("{:<80.80}\n", if s.is_empty() { "NONE" } else { s });
-        t.push_str(&id(&format!("{title} tool-point FRF {}", pair.name())));
-        t.push_str(&id(&frf.source));
-        t.push_str(&id("NONE"));
-        t.push_str(&id(&format!("receptance {} m/N", pair.name())));
-        t.push_str(&id("NONE"));
-        let _ = writeln!(
-            t,
-            "{:5}{:10}{:5}{:10} {:>10}{:10}{:4} {:>10}{:10}{:4}",
-            4,
-            1,
-            1,
-            0,
-            "NONE",
-            1,
-            pair.0 + 1,
-            "NONE",
-            1,
-            pair.1 + 1
-        );
-        let _ = writeln!(
-            t,
-            "{:10}{:10}{:10}{}{}{}",
-            6,
-            n,
-            i32::from(even),
-            e(if even { f[0] } else { 0.0 }, 13, 5),
-            e(if even { dx } else { 0.0 }, 13, 5),
-            e(0.0, 13, 5)
-        );
-        for (kind, label, units) in
-            [(18, "Frequency", "Hz"), (8, "Displacement", "m"), (13, "Force", "N"), (0, "NONE", "NONE")]
-        {
-            let (len, force) = match kind {
-                8 => (1, 0),
-                13 => (0, 1),
-                _ => (0, 0),
-            };
-            let _ = writeln!(t, "{kind:10}{len:5}{force:5}{:5} {label:<20} {units:<20}", 0);
-        }
-        out.extend_from_slice(t.as_bytes());
-        let flat: Vec<f64> = (0..n)
-            .flat_map(|k| {
-                let v = [f[k], h[k].re, h[k].im];
-                if even { v[1..].to_vec() } else { v.to_vec() }
-            })
-            .collect();
-        if binary {
-            for x in &flat {
-                out.extend_from_slice(&x.to_le_bytes());
-            }
-        } else {
-            let mut d = String::new();
-            if even {
-                for row in flat.chunks(4) {
-                    row.iter().for_each(|x| d.push_str(&e(*x, 20, 11)));
-                    d.push('\n');
-                }
-            } else {
-                for row in flat.chunks(3) {
-                    let _ = writeln!(d, "{}{}{}", e(row[0], 13, 5), e(row[1], 20, 11), e(row[2], 20, 11));
-                }
-            }
-            out.extend_from_slice(d.as_bytes());
-        }
-        out.extend_from_slice(b"    -1\n");
-    }
-    out
-}
+mod write;
+use write::fortran_f64;
+pub use write::write;
+#[cfg(test)]
+use write::{e, fits_e13};
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use std::collections::BTreeMap;
-
-    fn sample(n: usize, step: f64) -> MeasuredFrf {
-        let freq_hz: Vec<f64> = (0..n).map(|k| 10.0 + k as f64 * step).collect();
-        let mut h = BTreeMap::new();
-        for (i, p) in Pair::ALL.into_iter().enumerate() {
-            h.insert(
-                p,
-                freq_hz.iter().map(|f| Complex64::new(1e-7 / (1.0 + f + i as f64), -3e-8 * (f / 97.0).sin())).collect(),
-            );
-        }
-        MeasuredFrf { source: "synthetic".into(), freq_hz, h, notes: vec![] }
-    }
-
-    #[test]
-    fn ascii_and_binary_round_trip() {
-        for (step, want_even) in [(1.0, true), (0.48828125, false)] {
-            let m = sample(37, step);
-            // binary: every bit
-            let b = parse(&write(&m, "t", true), "t.uff").unwrap();
-            assert_eq!((b.freq_hz.clone(), b.h.clone()), (m.freq_hz.clone(), m.h.clone()), "binary step {step}");
-            // ASCII: 12 significant digits, the abscissa to 6 (E13.5)
-            let text = write(&m, "t", false);
-            let s = String::from_utf8(text.clone()).unwrap();
-            assert_eq!(s.lines().nth(8).unwrap().as_bytes()[29], if want_even { b'1' } else { b'0' });
-            assert!(s.lines().all(|l| l.len() <= 80), "80 columns");
-            let a = parse(&text, "t.uff").unwrap();
-            for (p, h) in &m.h {
-                for (x, y) in h.iter().zip(&a.h[p]) {
-                    assert!((x - y).norm() <= 1e-11 * x.norm(), "{p:?} {x} {y}");
-                }
-            }
-            for (x, y) in m.freq_hz.iter().zip(&a.freq_hz) {
-                assert!((x - y).abs() <= 1e-5 * x, "{x} {y}");
-            }
-        }
-    }
-
-    #[test]
-    fn fortran_numbers_are_right_aligned() {
-        assert_eq!(e(-1.5e-7, 20, 11), "  -1.50000000000e-07");
-        assert_eq!(e(1234.0, 13, 5), "  1.23400e+03");
-        assert!(fits_e13(1.0) && !fits_e13(0.48828125));
-    }
-
-    #[test]
-    fn bad_files_say_what_and_where() {
-        let m = sample(12, 1.0);
-        let good = String::from_utf8(write(&m, "t", false)).unwrap();
-        let lines: Vec<&str> = good.lines().collect();
-        let edit = |k: usize, new: &str| {
-            let mut l = lines.clone();
-            l[k] = new;
-            l.join("\n") + "\n"
-        };
-        let rec7 = lines[8];
-        let cases: Vec<(String, &str)> = vec![
-            (
-                edit(8, &rec7.replacen("        12", "        13", 1)),
-                "t.uff:9: record 7 says 13 points, the data hold 24 values",
-            ),
-            (edit(8, &format!("         4{}", &rec7[10..])), "ordinate type 4 is real"),
-            (
-                edit(10, "        11    0    0    0 Velocity             m/s^2               "),
-                "t.uff:11: record 9 says mobility but the units label \"m/s^2/N\" says accelerance",
-            ),
-            (
-                edit(11, "         2    0    0    0 Stress               NONE                "),
-                "t.uff:12: record 10: denominator data type 2 is not a force",
-            ),
-            (edit(13, &format!("{:>20}{}", "NaN", &lines[13][20..])), "t.uff:14: xx at 10 Hz is NaN"),
-            (good.replacen("    -1\n", "    -2\n", 1), "expected a dataset start"),
-            (lines[..lines.len() - 1].join("\n") + "\n", "dataset 58 has no closing"),
-            (String::new(), "no dataset"),
-        ];
-        for (text, want) in cases {
-            let e = parse(text.as_bytes(), "t.uff").unwrap_err().to_string();
-            assert!(e.contains(want), "{e}\n  wanted: {want}");
-        }
-        // a repeated pair
-        let twice = [good.as_bytes(), good.as_bytes()].concat();
-        assert!(parse(&twice, "t.uff").unwrap_err().to_string().contains("a second xx FRF"));
-        // binary: fewer bytes than record 7 says
-        let b = write(&m, "t", true);
-        let closing = b.windows(7).enumerate().filter(|(_, w)| *w == b"    -1\n").nth(1).unwrap().0;
-        let e = parse(&b[..closing - 40], "t.uff").unwrap_err().to_string();
-        assert!(e.contains("file ends before"), "{e}");
-        // text: the header cut short
-        let e = parse(&b[..b.len() / 3], "t.uff").unwrap_err().to_string();
-        assert!(e.contains("ends inside its header"), "{e}");
-    }
-}
+mod tests;

@@ -2,7 +2,10 @@
 //! modes as the machine file's modes, and what the fit leaves out (residual terms, complex
 //! modes) said in the report.
 
-use super::{MeasuredFrf, Pair};
+pub mod plots;
+pub mod synth;
+
+use crate::frf::{MeasuredFrf, Pair};
 use crate::machine::Mode;
 use modal_fit::{FitError, Identified};
 use num_complex::Complex64;

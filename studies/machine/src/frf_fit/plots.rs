@@ -1,8 +1,8 @@
 //! The figures of a fit: measured against fitted FRFs (magnitude on a log axis, phase), and the
 //! stabilisation diagram over the FRFs' magnitude.
 
-use super::MeasuredFrf;
-use super::fit::FrfFit;
+use super::FrfFit;
+use crate::frf::MeasuredFrf;
 use fmi_master::plot::{Axis, DrawError, FONT, LegendEntry, PALETTE, PlotError, canvas, drawn, legend_row, titled};
 use modal_fit::stabilisation::Stability;
 use plotters::prelude::*;
@@ -148,7 +148,9 @@ fn draw_stabilisation(path: &Path, title: &str, frf: &MeasuredFrf, fit: &FrfFit)
     let s: Vec<f64> = k
         .iter()
         .map(|&k| {
-            (frf.h[&super::Pair(0, 0)][k].norm() + frf.h[&super::Pair(1, 1)][k].norm()).max(f64::MIN_POSITIVE).log10()
+            (frf.h[&crate::frf::Pair(0, 0)][k].norm() + frf.h[&crate::frf::Pair(1, 1)][k].norm())
+                .max(f64::MIN_POSITIVE)
+                .log10()
         })
         .collect();
     let (lo, hi) = s.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |acc, v| (acc.0.min(*v), acc.1.max(*v)));

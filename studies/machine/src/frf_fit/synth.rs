@@ -7,8 +7,8 @@
 //! Cross FRFs are written only when a mode has a shape along both x and y; otherwise the
 //! machine is uncoupled and, as in a tap test on such a tool, only `xx` and `yy` are measured.
 
-use super::{MeasuredFrf, Pair};
 use crate::Machine;
+use crate::frf::{MeasuredFrf, Pair};
 use num_complex::Complex64;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
