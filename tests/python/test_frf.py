@@ -13,24 +13,7 @@ from conftest import ROOT
 
 CHATTER = ROOT / "target" / "release" / "chatter"
 MACHINE = ROOT / "studies" / "machine" / "examples" / "end_mill.toml"
-TWO_MODES = """
-version = 1
-name = "two modes"
-[tool]
-teeth = 3
-diameter = "12 mm"
-[structure]
-x = [ { frequency = "600 Hz", damping = 0.03, stiffness = "2e7 N/m" } ]
-y = [ { frequency = "650 Hz", damping = 0.035, stiffness = "2.5e7 N/m" } ]
-[material]
-kt = "800 N/mm^2"
-kr_ratio = 0.3
-[operation]
-immersion = 1.0
-milling = "down"
-feed_per_tooth = "0.05 mm"
-speed_range = ["3000 rpm", "20000 rpm"]
-"""
+TWO_MODES = ROOT / "studies" / "machine" / "examples" / "two_modes.toml"
 # (frequency Hz, damping, stiffness N/m, direction 0 = x, 1 = y)
 TRUTH = {"two modes": [(600.0, 0.03, 2e7, 0), (650.0, 0.035, 2.5e7, 1)],
          "end mill": [(600.0, 0.03, 2e7, 0), (650.0, 0.035, 2.5e7, 1), (1100.0, 0.02, 5e7, 0)]}
@@ -102,9 +85,7 @@ def test_we_read_what_pyuff_writes(tmp_path, binary):
 def test_the_fit_beside_pyema(tmp_path):
     from sdypy import EMA
     rows = []
-    for name, text in [("two modes", TWO_MODES), ("end mill", MACHINE.read_text())]:
-        machine = tmp_path / f"{name.replace(' ', '_')}.toml"
-        machine.write_text(text)
+    for name, machine in [("two modes", TWO_MODES), ("end mill", MACHINE)]:
         tap = tmp_path / f"{machine.stem}.csv"
         chatter("frf", "synth", "--machine", machine, "--out", tap, "--seed", "1")
         out = tmp_path / f"fit_{machine.stem}"

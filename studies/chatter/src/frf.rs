@@ -157,15 +157,8 @@ fn fit_cmd(a: &FitArgs) -> Result<()> {
         a.files.iter().map(|p| p.canonicalize().map(|c| c.display().to_string())).collect::<Result<_, _>>()?;
     let structure = f.structure_toml(&files);
     w("structure.toml", &structure)?;
-    let mut written = vec![
-        "fit.md",
-        "modes.csv",
-        "stabilisation.csv",
-        "stabilisation.png",
-        "overlay.png",
-        "fitted.csv",
-        "structure.toml",
-    ];
+    // the outputs written so far (OUTPUTS[1..8]); the SSV, its table and the machine file follow
+    let mut written: Vec<&str> = OUTPUTS[1..8].to_vec();
     let base = a.machine.as_ref().map(|p| crate::own_machine::load(p)).transpose()?;
     let at_actuator = base.as_ref().is_some_and(|m| m.actuator.is_some());
     match machine::fmus::structure_ssv(&f.modes, at_actuator, "fitted modes", &out_dir.join("modal_table.csv")) {

@@ -13,29 +13,6 @@ use model_description::Value;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
-const SIX_MODES: &str = r#"
-version = 1
-name = "six modes"
-[tool]
-teeth = 3
-diameter = "12 mm"
-[structure]
-x = [ { frequency = "600 Hz", damping = 0.03, stiffness = "2e7 N/m" },
-      { frequency = "1100 Hz", damping = 0.02, stiffness = "5e7 N/m" },
-      { frequency = "2600 Hz", damping = 0.02, stiffness = "1.2e8 N/m" } ]
-y = [ { frequency = "650 Hz", damping = 0.035, stiffness = "2.5e7 N/m" },
-      { frequency = "1500 Hz", damping = 0.025, stiffness = "8e7 N/m" },
-      { frequency = "3200 Hz", damping = 0.02, stiffness = "1.5e8 N/m" } ]
-[material]
-kt = "800 N/mm^2"
-kr_ratio = 0.3
-[operation]
-immersion = 1.0
-milling = "down"
-feed_per_tooth = "0.05 mm"
-speed_range = ["3000 rpm", "20000 rpm"]
-"#;
-
 /// The FMU's steady-state response `x/F` along `axis` to a unit sine force along `axis` at `f`.
 fn sine_response(table: &std::path::Path, step: f64, f: f64, axis: usize) -> Complex64 {
     let fmu = machine::workflow::fmu_dir().join("ModalStructure.fmu");
@@ -82,7 +59,8 @@ fn sine_response(table: &std::path::Path, step: f64, f: f64, axis: usize) -> Com
 
 #[test]
 fn six_fitted_modes_through_the_fmu_give_the_fitted_frf() {
-    let truth = Machine::from_toml(SIX_MODES, "six.toml").unwrap();
+    let truth =
+        Machine::from_file(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/six_modes.toml")).unwrap();
     let frf = tap_test(&truth, &TapTest::default()).unwrap();
     let f = fit(&frf, &FitOptions { band_hz: Some((200.0, 4000.0)), ..Default::default() }).unwrap();
     assert_eq!(f.modes.len(), 6, "{}", f.report(&frf));

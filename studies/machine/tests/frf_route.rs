@@ -9,27 +9,16 @@ use machine::frf_fit::{FitOptions, fit};
 use machine::lobes::MeasuredLobes;
 use machine::workflow::speeds;
 
-const TWO_MODES: &str = r#"
-version = 1
-name = "two modes"
-[tool]
-teeth = 3
-diameter = "12 mm"
-[structure]
-x = [ { frequency = "600 Hz", damping = 0.03, stiffness = "2e7 N/m" } ]
-y = [ { frequency = "650 Hz", damping = 0.035, stiffness = "2.5e7 N/m" } ]
-[material]
-kt = "800 N/mm^2"
-kr_ratio = 0.3
-[operation]
-immersion = 1.0
-milling = "down"
-feed_per_tooth = "0.05 mm"
-speed_range = ["3000 rpm", "20000 rpm"]
-"#;
+fn example(name: &str) -> Machine {
+    Machine::from_file(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(name)).unwrap()
+}
 
 fn end_mill() -> Machine {
-    Machine::from_file(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/end_mill.toml")).unwrap()
+    example("end_mill.toml")
+}
+
+fn two_modes() -> Machine {
+    example("two_modes.toml")
 }
 
 /// Fit the machine's noisy tap test; check every true mode against its fitted twin.
@@ -57,7 +46,7 @@ fn fitted(m: &Machine, seed: u64) -> Machine {
 
 #[test]
 fn the_fit_finds_every_mode_of_two_and_three_mode_machines() {
-    let two = Machine::from_toml(TWO_MODES, "two.toml").unwrap();
+    let two = two_modes();
     for seed in 1..=3 {
         fitted(&two, seed);
         fitted(&end_mill(), seed);
@@ -70,7 +59,7 @@ fn the_fit_finds_every_mode_of_two_and_three_mode_machines() {
 /// over the band). Printed for the docs with `--nocapture`.
 #[test]
 fn lobes_from_the_data_and_from_the_fitted_modes_agree() {
-    for m in [Machine::from_toml(TWO_MODES, "two.toml").unwrap(), end_mill()] {
+    for m in [two_modes(), end_mill()] {
         for seed in 1..=3 {
             let f = fitted(&m, seed);
             let (lo, hi) = m.operation.speed_range_rpm;
