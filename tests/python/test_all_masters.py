@@ -21,6 +21,7 @@ Skipped, with the reason: ForceControl.ssp in libcosim (its step, the controller
 0.6/143 s, is not a whole number of nanoseconds, libcosim's clock).
 """
 import json
+import pathlib
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -44,9 +45,15 @@ SSD = "{http://ssp-standard.org/SSP1/SystemStructureDescription}"
 SSV = "{http://ssp-standard.org/SSP1/SystemStructureParameterValues}"
 
 
+def path_of(name):
+    """A shipped SSP by name, or any .ssp by its path."""
+    return name if isinstance(name, pathlib.Path) else ssp_path(name)
+
+
 def system(name):
-    """The SSD of a shipped SSP: its step, output connectors and parameter bindings."""
-    with zipfile.ZipFile(ssp_path(name)) as z:
+    """The SSD of a shipped SSP (or of the .ssp at a path): its step, output connectors and
+    parameter bindings."""
+    with zipfile.ZipFile(path_of(name)) as z:
         root = ET.fromstring(z.read("SystemStructure.ssd"))
     step = float(root.find(f".//{SSD}DefaultExperiment").find(".//*[@stepSize]").get("stepSize"))
     outputs, bindings = [], []
@@ -62,8 +69,8 @@ def system(name):
 
 
 def ours(tmp_path, name, step, order):
-    out = tmp_path / f"{name}.{order}.csv"
-    cmd = [str(cosim()), "run", str(ssp_path(name)), "--quiet", "--order", order, "--stop-time", repr(STEPS * step),
+    out = tmp_path / f"{pathlib.Path(name).name}.{order}.csv"
+    cmd = [str(cosim()), "run", str(path_of(name)), "--quiet", "--order", order, "--stop-time", repr(STEPS * step),
            "-o", str(out)]
     r = subprocess.run(cmd, capture_output=True, text=True)
     assert r.returncode == 0, f"{' '.join(cmd)}\n{r.stderr}"

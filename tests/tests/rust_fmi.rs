@@ -14,7 +14,7 @@ use tests::{fmu_dir, packaged};
 /// Communication steps each system runs.
 const STEPS: usize = 300;
 
-const SYSTEMS: [&str; 7] = [
+const SYSTEMS: [&str; 8] = [
     "ClosedLoop.ssp",
     "ClosedLoopTable2.ssp",
     "DecomposedPlant.ssp",
@@ -22,6 +22,7 @@ const SYSTEMS: [&str; 7] = [
     "ForceControl.ssp",
     "SlidingModeFuzzy.ssp",
     "Afrac.ssp",
+    "Benchmark.ssp",
 ];
 
 /// One component loaded through rust-fmi: its instance, description (ours, for names) and
