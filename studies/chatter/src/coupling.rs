@@ -82,12 +82,18 @@ pub struct Headline {
 }
 
 /// The headline metric of each shipped system: what its docs page reports.
-pub const HEADLINES: [Headline; 8] = [
+pub const HEADLINES: [Headline; 9] = [
     Headline {
         ssp: "Afrac.ssp",
         label: "RMS of plant.x over the second half [m]",
         metric: Metric::RmsSecondHalf("plant.x"),
         quick_stop: 0.5,
+    },
+    Headline {
+        ssp: "Benchmark.ssp",
+        label: "RMS of plant.x over the second half [m]",
+        metric: Metric::RmsSecondHalf("plant.x"),
+        quick_stop: 1.0,
     },
     Headline {
         ssp: "ClosedLoop.ssp",
