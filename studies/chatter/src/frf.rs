@@ -135,6 +135,11 @@ fn fit_cmd(a: &FitArgs) -> Result<()> {
             input.display()
         );
     }
+    ensure!(
+        a.machine.is_none() || !a.out.join("machine.toml").exists(),
+        "{}: exists (a machine file is never overwritten): choose another --out",
+        a.out.join("machine.toml").display()
+    );
     let frf = MeasuredFrf::read(&a.files)?;
     let o = FitOptions { band_hz: a.band.as_ref().map(|b| (b[0], b[1])), max_order: a.max_order };
     let f = fit(&frf, &o).map_err(|e| anyhow::anyhow!("{}: {e}", frf.source))?;
