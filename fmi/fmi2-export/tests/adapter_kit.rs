@@ -78,13 +78,13 @@ fn table(identifier: &'static str) -> Table<DecayParams, DecayInputs, DecayOutpu
         Header { model_name: identifier, identifier, description: "test model", default_experiment: (0.0, 1.0, 1e-3) },
         fmi2_export::variables! {
             inputs DecayInputs {
-                0 "u" [u] "" [] "forcing";
+                0 "u" [u] "1" [] "forcing";
             }
             outputs DecayOutputs {
-                1 "x" [x] "" [] "state";
+                1 "x" [x] "1" [] "state";
             }
             parameters DecayParams {
-                2 "rate" [rate] "" [0.0, 1e3] "decay rate";
+                2 "rate" [rate] "1/s" [0.0, 1e3] "decay rate";
                 3 "dt" [dt] "s" [1e-6, 1.0] "grid";
             }
         },

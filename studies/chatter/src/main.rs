@@ -11,6 +11,7 @@
 //! | seed 003 (DSMC, type-2 fuzzy) | `chatter dsmc` |
 //! | seed 004 (FROH force control) | `chatter froh` |
 //! | your own machine (a machine file) | `chatter machine`, `chatter lobes --machine`, `chatter tune --machine` |
+//! | measured FRFs (a tap test) | `chatter frf` |
 //! | studies as cases, on many machines | `chatter plan`, `chatter run`, `chatter collect` |
 //! | every shipped system under both coupling orders | `chatter coupling-order` |
 //!
