@@ -50,7 +50,7 @@ impl Machine {
         let (entry, exit) = self.engagement();
         let cut_time = (exit - entry) / (2.0 * std::f64::consts::PI) * 60.0 / rpm;
         let h = (1.0 / (40.0 * self.highest_mode_hz().max(tooth_hz))).min(cut_time / 40.0);
-        if h >= 1e-5 { 1e-5 } else { 1e-5 / (1e-5 / h).ceil() }
+        step_within(h)
     }
 
     /// The controller parameters of the file's `[controller]` (None without one, or `off`):
@@ -162,6 +162,12 @@ impl Machine {
     }
 }
 
+/// The communication step: 10 µs, or 10 µs divided by the smallest whole number that brings it
+/// to `h` or below.
+fn step_within(h: f64) -> f64 {
+    if h >= 1e-5 { 1e-5 } else { 1e-5 / (1e-5 / h).ceil() }
+}
+
 /// `ModalStructure` parameters of `modes` (internal step `step` \[s\]; noise, drift and
 /// sinusoid off; the actuator point is the tool point if `at_actuator`).
 pub fn modal_params(modes: &[Mode], at_actuator: bool, step: f64) -> Result<ModalParams, ModelError> {
@@ -203,7 +209,7 @@ pub fn structure_ssv(
     use fmi2_export::Fmi2Model;
     let f = modes.iter().map(|m| m.frequency_hz).fold(0.0, f64::max);
     let h = 1.0 / (40.0 * f);
-    let step = if h >= 1e-5 { 1e-5 } else { 1e-5 / (1e-5 / h).ceil() };
+    let step = step_within(h);
     let structure = modal_params(modes, at_actuator, step)?;
     let (sp, text) = if modes.len() <= fmu_modal_structure::PARAMETER_MODES {
         (fmu_modal_structure::StructureFmuParams { structure, modal_table: String::new() }, None)
